@@ -1,0 +1,76 @@
+//! Capsule–object collision (§6.4.1): "does this capsule touch the surface or lie inside?"
+//!
+//! Two paths: [`TriangleGrid::capsule_touches`] is exact; [`MeshCollider::capsule_touches`] first
+//! asks a [`SignedDistanceGrid`] and falls back to the exact path only when the grid's bounds do
+//! not decide, so both always give the same answer.
+
+mod signed_distance_grid;
+mod triangle_grid;
+
+pub use signed_distance_grid::{Decision, SignedDistanceGrid};
+pub use triangle_grid::TriangleGrid;
+
+use crate::math::Point3;
+use crate::mesh::TriangleMesh;
+
+/// A capsule in world coordinates: the segment `a–b` swept by a sphere of `radius`.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Capsule {
+    /// First segment end.
+    pub a: Point3,
+    /// Second segment end.
+    pub b: Point3,
+    /// Radius in metres.
+    pub radius: f64,
+}
+
+/// Counts of collision queries, to report what a search cost.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+pub struct CollisionCounters {
+    /// Capsule queries asked.
+    pub queries: u64,
+    /// Queries the distance grid could not decide and the exact path answered.
+    pub exact_fallbacks: u64,
+}
+
+/// Both collision paths for one object.
+#[derive(Debug, Clone)]
+pub struct MeshCollider {
+    exact: TriangleGrid,
+    fast: SignedDistanceGrid,
+}
+
+impl MeshCollider {
+    /// Builds both paths for a mesh that passed its checks. The distance grid extends `margin`
+    /// metres beyond the mesh's bounds.
+    pub fn new(mesh: &TriangleMesh, margin: f64) -> Self {
+        let exact = TriangleGrid::new(mesh);
+        let (lo, hi) = mesh.bounds();
+        let fast = SignedDistanceGrid::new(&exact, lo, hi, margin);
+        Self { exact, fast }
+    }
+
+    /// The exact path.
+    pub fn exact(&self) -> &TriangleGrid {
+        &self.exact
+    }
+
+    /// The distance grid.
+    pub fn grid(&self) -> &SignedDistanceGrid {
+        &self.fast
+    }
+
+    /// Fast test, same answer as the exact one: does the capsule touch or lie inside the object?
+    pub fn capsule_touches(&self, capsule: &Capsule, counters: &mut CollisionCounters) -> bool {
+        counters.queries += 1;
+        match self.fast.decide(&capsule.a, &capsule.b, capsule.radius) {
+            Decision::Touches => true,
+            Decision::Free => false,
+            Decision::Unsure => {
+                counters.exact_fallbacks += 1;
+                self.exact
+                    .capsule_touches(&capsule.a, &capsule.b, capsule.radius)
+            }
+        }
+    }
+}

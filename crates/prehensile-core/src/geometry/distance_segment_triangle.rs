@@ -1,0 +1,63 @@
+//! Squared distance between a segment and a triangle.
+//!
+//! If the segment pierces the triangle the distance is zero; otherwise the minimum is reached
+//! either at a segment endpoint against the triangle or between the segment and a triangle edge.
+
+use super::{closest_point_on_triangle, distance_squared_segment_segment};
+use crate::math::{Point3, Vec3};
+
+/// Squared distance between segment `p–q` and triangle `(a, b, c)`.
+pub fn distance_squared_segment_triangle(
+    p: &Point3,
+    q: &Point3,
+    a: &Point3,
+    b: &Point3,
+    c: &Point3,
+) -> f64 {
+    if segment_pierces_triangle(p, q, a, b, c) {
+        return 0.0;
+    }
+    let dp = (closest_point_on_triangle(p, a, b, c).0 - p).norm_squared();
+    let dq = (closest_point_on_triangle(q, a, b, c).0 - q).norm_squared();
+    let e0 = distance_squared_segment_segment(p, q, a, b);
+    let e1 = distance_squared_segment_segment(p, q, b, c);
+    let e2 = distance_squared_segment_segment(p, q, c, a);
+    dp.min(dq).min(e0).min(e1).min(e2)
+}
+
+/// True when the segment crosses the triangle's plane inside the triangle (boundary included).
+fn segment_pierces_triangle(p: &Point3, q: &Point3, a: &Point3, b: &Point3, c: &Point3) -> bool {
+    let n: Vec3 = (b - a).cross(&(c - a));
+    let sp = n.dot(&(p - a));
+    let sq = n.dot(&(q - a));
+    if (sp > 0.0 && sq > 0.0) || (sp < 0.0 && sq < 0.0) || sp == sq {
+        // Same side, or parallel to the plane (handled by the edge and endpoint distances).
+        return false;
+    }
+    let t = sp / (sp - sq);
+    let x = p + (q - p) * t;
+    let inside_edge =
+        |u: &Point3, v: &Point3| n.dot(&(v - u).cross(&(x - u))) >= 0.0;
+    inside_edge(a, b) && inside_edge(b, c) && inside_edge(c, a)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn piercing_above_and_beside() {
+        let p = |x, y, z| Point3::new(x, y, z);
+        let (a, b, c) = (p(0.0, 0.0, 0.0), p(1.0, 0.0, 0.0), p(0.0, 1.0, 0.0));
+        let d = distance_squared_segment_triangle(&p(0.2, 0.2, -1.0), &p(0.2, 0.2, 1.0), &a, &b, &c);
+        assert_eq!(d, 0.0);
+        let d = distance_squared_segment_triangle(&p(0.2, 0.2, 0.5), &p(0.2, 0.2, 1.0), &a, &b, &c);
+        assert!((d - 0.25).abs() < 1e-12);
+        // Parallel segment beside the hypotenuse.
+        let d = distance_squared_segment_triangle(&p(1.0, 1.0, 0.0), &p(2.0, 0.0, 0.0), &a, &b, &c);
+        assert!((d - 0.5).abs() < 1e-12);
+        // Segment passing over an edge without piercing: distance to the edge.
+        let d = distance_squared_segment_triangle(&p(0.5, -1.0, 0.1), &p(0.5, 1.0, 0.1), &a, &b, &c);
+        assert!(d <= 0.01 + 1e-12);
+    }
+}

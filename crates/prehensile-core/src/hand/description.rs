@@ -1,0 +1,119 @@
+//! The documented, engine-neutral description of a hand, as written in a hand file (TOML).
+//!
+//! Positions are in metres in the hand frame at rest (z from the wrist along the fingers, x across
+//! the knuckles, y the palm normal pointing out of the palm); angles are in degrees. See
+//! `docs/HAND_FORMAT.md` for the full format with an example.
+
+use serde::{Deserialize, Serialize};
+
+/// A whole hand: bones, coupling rules and grasp movements.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HandDescription {
+    /// Short name, e.g. `human`.
+    pub name: String,
+    /// One line about the hand and where its numbers come from.
+    #[serde(default)]
+    pub description: String,
+    /// Bones in any order; exactly one has no parent (the root, usually the wrist).
+    pub bones: Vec<BoneDescription>,
+    /// Intra-finger coupling rules (§4.1.2.2).
+    #[serde(default)]
+    pub couplings: Vec<CouplingDescription>,
+    /// Grasp movements (§5.3). A generic `close` movement is always added.
+    #[serde(default)]
+    pub movements: Vec<MovementDescription>,
+}
+
+/// One bone and the joint that moves it relative to its parent.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoneDescription {
+    /// Unique name.
+    pub name: String,
+    /// Name of the parent bone; absent for the root.
+    #[serde(default)]
+    pub parent: Option<String>,
+    /// Joint position at rest, hand frame, metres.
+    pub origin: [f64; 3],
+    /// End point of the last bone of a finger (the fingertip), hand frame, metres.
+    #[serde(default)]
+    pub tip: Option<[f64; 3]>,
+    /// Capsule radius in metres.
+    pub radius: f64,
+    /// The joint; fixed when absent.
+    #[serde(default)]
+    pub joint: JointDescription,
+    /// Name of the finger this bone starts (only on the first bone of a chain); defaults to the
+    /// bone's name.
+    #[serde(default)]
+    pub finger: Option<String>,
+    /// Direction (hand frame) toward which the bone flexes; the bone's y axis is this direction
+    /// made perpendicular to the bone. Defaults to the hand's palm normal `[0, 1, 0]`.
+    #[serde(default)]
+    pub flexes_toward: Option<[f64; 3]>,
+}
+
+/// A joint and its limits in degrees.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum JointDescription {
+    /// No motion.
+    #[default]
+    Fixed,
+    /// One flexion axis (the bone's −x, so positive angles curl toward the bone's +y).
+    Hinge {
+        /// Flexion limits `[min, max]` in degrees.
+        flexion: [f64; 2],
+    },
+    /// Flexion about the bone's −x, then abduction about its y.
+    TwoAxis {
+        /// Flexion limits in degrees.
+        flexion: [f64; 2],
+        /// Abduction limits in degrees.
+        abduction: [f64; 2],
+    },
+    /// Three rotational degrees of freedom as a rotation vector in the bone frame.
+    Ball {
+        /// Limits of the rotation vector's components `[[xmin, xmax], [ymin, ymax], [zmin, zmax]]`.
+        limits: [[f64; 2]; 3],
+    },
+}
+
+/// `follower.dof = ratio * leader.dof` (e.g. distal flexion = 2/3 of middle flexion).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CouplingDescription {
+    /// Bone whose angle is derived.
+    pub follower: String,
+    /// Bone whose angle drives it.
+    pub leader: String,
+    /// Ratio.
+    pub ratio: f64,
+    /// Which degree of freedom of each joint (0 = flexion).
+    #[serde(default)]
+    pub dof: usize,
+}
+
+/// A grasp movement: start and end joint angles (degrees per bone; bones left out stay at 0).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MovementDescription {
+    /// Name, e.g. `power` or `precision`.
+    pub name: String,
+    /// Grasp center in the hand frame, metres.
+    #[serde(default)]
+    pub grasp_center: Option<[f64; 3]>,
+    /// Instead of `grasp_center`: the centroid of these fingers' tips at the end pose.
+    #[serde(default)]
+    pub grasp_center_between: Vec<String>,
+    /// Fingers that must touch for the grasp to count (e.g. thumb and index for precision).
+    #[serde(default)]
+    pub contact_fingers: Vec<String>,
+    /// Start pose: bone name -> angles in degrees, one per degree of freedom.
+    #[serde(default)]
+    pub start: std::collections::BTreeMap<String, Vec<f64>>,
+    /// End pose, same form.
+    #[serde(default)]
+    pub end: std::collections::BTreeMap<String, Vec<f64>>,
+}

@@ -1,0 +1,13 @@
+//! The hand model (§4): an immutable tree of bones stored parents-first, their joints with limits,
+//! coupling rules, one capsule per bone segment, fingers as chains from the root, and grasp
+//! movements.
+
+mod build;
+mod description;
+mod model;
+
+pub use build::HandError;
+pub use description::{
+    BoneDescription, CouplingDescription, HandDescription, JointDescription, MovementDescription,
+};
+pub use model::{Bone, BoneCapsule, Coupling, Finger, HandModel, Joint};

@@ -1,0 +1,217 @@
+//! The validated, immutable hand model.
+
+use crate::math::{Point3, Rotation, Transform, Vec3};
+use crate::movement::GraspMovement;
+
+/// A joint: how a bone may rotate relative to its parent, limits in radians.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Joint {
+    /// No motion.
+    Fixed,
+    /// Flexion about the bone's −x axis.
+    Hinge {
+        /// `[min, max]` flexion.
+        flexion: [f64; 2],
+    },
+    /// Flexion about the bone's −x axis, then abduction about its y axis.
+    TwoAxis {
+        /// `[min, max]` flexion.
+        flexion: [f64; 2],
+        /// `[min, max]` abduction.
+        abduction: [f64; 2],
+    },
+    /// A rotation vector in the bone frame, each component limited.
+    Ball {
+        /// Per-component `[min, max]`.
+        limits: [[f64; 2]; 3],
+    },
+}
+
+impl Joint {
+    /// Number of degrees of freedom.
+    pub fn dofs(&self) -> usize {
+        match self {
+            Joint::Fixed => 0,
+            Joint::Hinge { .. } => 1,
+            Joint::TwoAxis { .. } => 2,
+            Joint::Ball { .. } => 3,
+        }
+    }
+
+    /// Limits of degree of freedom `k`.
+    pub fn limits(&self, k: usize) -> [f64; 2] {
+        match (self, k) {
+            (Joint::Hinge { flexion }, 0) | (Joint::TwoAxis { flexion, .. }, 0) => *flexion,
+            (Joint::TwoAxis { abduction, .. }, 1) => *abduction,
+            (Joint::Ball { limits }, k) if k < 3 => limits[k],
+            _ => [0.0, 0.0],
+        }
+    }
+
+    /// The joint rotation for the given angles (one per degree of freedom).
+    pub fn rotation(&self, angles: &[f64]) -> Rotation {
+        let flex = |a: f64| Rotation::from_axis_angle(&-Vec3::x_axis(), a);
+        match self {
+            Joint::Fixed => Rotation::identity(),
+            Joint::Hinge { .. } => flex(angles[0]),
+            Joint::TwoAxis { .. } => Rotation::from_axis_angle(&Vec3::y_axis(), angles[1]) * flex(angles[0]),
+            Joint::Ball { .. } => Rotation::from_scaled_axis(Vec3::new(angles[0], angles[1], angles[2])),
+        }
+    }
+}
+
+/// One bone of the hand.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Bone {
+    /// Unique name.
+    pub name: String,
+    /// Index of the parent bone (always smaller than this bone's index), `None` for the root.
+    pub parent: Option<usize>,
+    /// Bone frame relative to the parent's frame when all joint angles are zero.
+    pub rest: Transform,
+    /// The joint that rotates this bone.
+    pub joint: Joint,
+    /// Index of the first degree of freedom of this bone in a joint-angle vector.
+    pub first_dof: usize,
+    /// Finger this bone belongs to, `None` for the root.
+    pub finger: Option<usize>,
+}
+
+/// A capsule attached to a bone, endpoints in the bone frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BoneCapsule {
+    /// Bone it moves with.
+    pub bone: usize,
+    /// First end, bone frame.
+    pub a: Point3,
+    /// Second end, bone frame.
+    pub b: Point3,
+    /// Radius in metres.
+    pub radius: f64,
+}
+
+/// A finger: a chain of bones from a child of the root to a fingertip.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Finger {
+    /// Name (e.g. `thumb`, `index`).
+    pub name: String,
+    /// Bones from the chain's first bone to its last.
+    pub bones: Vec<usize>,
+    /// Fingertip in the last bone's frame.
+    pub tip: Point3,
+}
+
+/// `angles[follower] = ratio * angles[leader]`, indices into a joint-angle vector.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Coupling {
+    /// Derived degree of freedom.
+    pub follower: usize,
+    /// Driving degree of freedom.
+    pub leader: usize,
+    /// Ratio.
+    pub ratio: f64,
+}
+
+/// An immutable, validated hand. Build it with [`HandModel::from_description`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct HandModel {
+    pub(crate) name: String,
+    pub(crate) description: String,
+    pub(crate) bones: Vec<Bone>,
+    pub(crate) capsules: Vec<BoneCapsule>,
+    pub(crate) fingers: Vec<Finger>,
+    pub(crate) couplings: Vec<Coupling>,
+    pub(crate) movements: Vec<GraspMovement>,
+    pub(crate) dof_count: usize,
+    pub(crate) chain_predecessor: Vec<Option<usize>>,
+    pub(crate) capsule_ranges: Vec<std::ops::Range<usize>>,
+}
+
+impl HandModel {
+    /// Name of the hand.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// One-line description.
+    pub fn description(&self) -> &str {
+        &self.description
+    }
+
+    /// Bones, parents first (`parent < index`); bone 0 is the root.
+    pub fn bones(&self) -> &[Bone] {
+        &self.bones
+    }
+
+    /// Every capsule, in bone order.
+    pub fn capsules(&self) -> &[BoneCapsule] {
+        &self.capsules
+    }
+
+    /// Fingers.
+    pub fn fingers(&self) -> &[Finger] {
+        &self.fingers
+    }
+
+    /// Coupling rules.
+    pub fn couplings(&self) -> &[Coupling] {
+        &self.couplings
+    }
+
+    /// Grasp movements; the last is always the generic `close`.
+    pub fn movements(&self) -> &[GraspMovement] {
+        &self.movements
+    }
+
+    /// The movement with this name.
+    pub fn movement(&self, name: &str) -> Option<&GraspMovement> {
+        self.movements.iter().find(|m| m.name() == name)
+    }
+
+    /// Total degrees of freedom.
+    pub fn dof_count(&self) -> usize {
+        self.dof_count
+    }
+
+    /// Index of the bone with this name.
+    pub fn bone_index(&self, name: &str) -> Option<usize> {
+        self.bones.iter().position(|b| b.name == name)
+    }
+
+    /// Index of the finger with this name.
+    pub fn finger_index(&self, name: &str) -> Option<usize> {
+        self.fingers.iter().position(|f| f.name == name)
+    }
+
+    /// The previous bone in the same finger chain, `None` for a chain's first bone and the root.
+    pub fn chain_predecessor(&self, bone: usize) -> Option<usize> {
+        self.chain_predecessor[bone]
+    }
+
+    /// The capsules attached to `bone`.
+    pub fn bone_capsules(&self, bone: usize) -> &[BoneCapsule] {
+        &self.capsules[self.capsule_ranges[bone].clone()]
+    }
+
+    /// Joint angles with limits applied and coupling rules enforced.
+    pub fn constrain(&self, angles: &mut [f64]) {
+        for c in &self.couplings {
+            angles[c.follower] = c.ratio * angles[c.leader];
+        }
+        for bone in &self.bones {
+            for k in 0..bone.joint.dofs() {
+                let [lo, hi] = bone.joint.limits(k);
+                let a = &mut angles[bone.first_dof + k];
+                *a = a.clamp(lo, hi);
+            }
+        }
+    }
+
+    /// Local joint rotation of every bone for a joint-angle vector.
+    pub fn joint_rotations(&self, angles: &[f64], out: &mut [Rotation]) {
+        for (i, bone) in self.bones.iter().enumerate() {
+            let n = bone.joint.dofs();
+            out[i] = bone.joint.rotation(&angles[bone.first_dof..bone.first_dof + n]);
+        }
+    }
+}

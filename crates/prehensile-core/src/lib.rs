@@ -1,0 +1,36 @@
+//! # prehensile-core
+//!
+//! Hand and object models, capsule collision, kinematics and finger closing for real-time grasp
+//! pose search (Lazzaroni, "Real-Time Grasp Pose Generation for Virtual Hand"). No file I/O, no
+//! physics engine, no printing: formats live in `prehensile-formats`, the CLI in `prehensile-cli`.
+//!
+//! Conventions: SI units; hand frame with z from the wrist along the fingers, x across the
+//! knuckles and **y the palm normal pointing out of the palm** (the side fingers close toward).
+//!
+//! ```
+//! use prehensile_core::{shapes, ObjectModel};
+//! let mesh = shapes::builtin_object("sphere").unwrap();
+//! let object = ObjectModel::new("sphere", mesh, None).unwrap();
+//! assert!(object.volume() > 0.0);
+//! ```
+#![warn(missing_docs)]
+
+pub mod collision;
+pub mod finger_closing;
+pub mod geometry;
+pub mod hand;
+pub mod kinematics;
+pub mod math;
+pub mod mesh;
+pub mod movement;
+pub mod object;
+pub mod shapes;
+pub mod workspace;
+
+pub use collision::{Capsule, CollisionCounters};
+pub use finger_closing::{close_fingers, ClosingOutcome, ClosingParams};
+pub use hand::{HandDescription, HandError, HandModel};
+pub use mesh::{MeshError, MeshReport, TriangleMesh};
+pub use movement::GraspMovement;
+pub use object::{ObjectError, ObjectModel};
+pub use workspace::Workspace;

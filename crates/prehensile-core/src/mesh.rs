@@ -1,0 +1,381 @@
+//! Triangle meshes: welding by position, topology checks and mass properties.
+
+use std::collections::HashMap;
+
+use crate::math::{Point3, Vec3};
+
+/// Largest number of triangles a mesh may have; larger inputs are refused rather than exhausting
+/// memory.
+pub const MAX_TRIANGLES: usize = 20_000_000;
+
+/// A triangle soup welded into an indexed mesh: vertices, and triangles as index triples.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TriangleMesh {
+    /// Vertex positions in metres.
+    pub vertices: Vec<Point3>,
+    /// Triangles as counter-clockwise (seen from outside) index triples into `vertices`.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// What is wrong with a mesh that is not a valid closed object.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum MeshError {
+    /// The mesh has no triangles.
+    #[error("the mesh has no triangles")]
+    Empty,
+    /// A coordinate is NaN or infinite.
+    #[error("vertex {vertex} has a non-finite coordinate {value:?}; fix or remove it in the source file")]
+    NonFinite {
+        /// Index of the vertex in the input.
+        vertex: usize,
+        /// The offending position.
+        value: [f64; 3],
+    },
+    /// A triangle refers to a vertex that does not exist.
+    #[error("triangle {triangle} refers to vertex {index}, but there are only {vertex_count} vertices")]
+    IndexOutOfRange {
+        /// Triangle index.
+        triangle: usize,
+        /// The bad vertex index.
+        index: usize,
+        /// Number of vertices.
+        vertex_count: usize,
+    },
+    /// More triangles than [`MAX_TRIANGLES`].
+    #[error("{count} triangles is more than the limit of {MAX_TRIANGLES}; decimate the mesh first")]
+    TooLarge {
+        /// Number of triangles given.
+        count: usize,
+    },
+    /// The mesh fails a topology or geometry check; the report says which.
+    #[error("{0}")]
+    Defective(MeshReport),
+}
+
+/// The result of checking a welded mesh. A mesh is usable as a graspable object only when
+/// [`MeshReport::defects`] is empty.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct MeshReport {
+    /// Number of triangles after welding.
+    pub triangles: usize,
+    /// Number of distinct vertices after welding.
+    pub vertices: usize,
+    /// Edges used by exactly one triangle (holes).
+    pub boundary_edges: usize,
+    /// Edges used by more than two triangles.
+    pub non_manifold_edges: usize,
+    /// Edges whose two triangles traverse them in the same direction (flipped winding).
+    pub inconsistent_edges: usize,
+    /// Triangles with (near) zero area.
+    pub degenerate_triangles: usize,
+    /// Enclosed volume in cubic metres (meaningful only for closed meshes; negative = inside out).
+    pub volume: f64,
+    /// Axis-aligned size in metres.
+    pub size: [f64; 3],
+    /// Lower corner of the bounding box.
+    pub min: [f64; 3],
+    /// Upper corner of the bounding box.
+    pub max: [f64; 3],
+    /// Human-readable description of each defect, with where it is and how to fix it.
+    pub defects: Vec<String>,
+}
+
+impl std::fmt::Display for MeshReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.defects.is_empty() {
+            write!(f, "closed mesh")
+        } else {
+            write!(f, "{}", self.defects.join("; "))
+        }
+    }
+}
+
+impl TriangleMesh {
+    /// Welds a triangle list by exact position (coincident vertices become one), checks numbers and
+    /// indices, and drops nothing. Use [`TriangleMesh::report`] to check topology.
+    pub fn weld(positions: &[Point3], triangles: &[[usize; 3]]) -> Result<Self, MeshError> {
+        if triangles.is_empty() {
+            return Err(MeshError::Empty);
+        }
+        if triangles.len() > MAX_TRIANGLES {
+            return Err(MeshError::TooLarge {
+                count: triangles.len(),
+            });
+        }
+        for (i, p) in positions.iter().enumerate() {
+            if !p.iter().all(|c| c.is_finite()) {
+                return Err(MeshError::NonFinite {
+                    vertex: i,
+                    value: [p.x, p.y, p.z],
+                });
+            }
+        }
+        let mut remap = Vec::with_capacity(positions.len());
+        let mut seen: HashMap<[u64; 3], u32> = HashMap::with_capacity(positions.len());
+        let mut vertices = Vec::new();
+        for p in positions {
+            // +0.0 and -0.0 weld together.
+            let key = [p.x + 0.0, p.y + 0.0, p.z + 0.0].map(f64::to_bits);
+            let id = *seen.entry(key).or_insert_with(|| {
+                vertices.push(*p);
+                (vertices.len() - 1) as u32
+            });
+            remap.push(id);
+        }
+        let mut out = Vec::with_capacity(triangles.len());
+        for (t, tri) in triangles.iter().enumerate() {
+            let mut welded = [0u32; 3];
+            for (k, &i) in tri.iter().enumerate() {
+                welded[k] = *remap.get(i).ok_or(MeshError::IndexOutOfRange {
+                    triangle: t,
+                    index: i,
+                    vertex_count: positions.len(),
+                })?;
+            }
+            out.push(welded);
+        }
+        Ok(Self {
+            vertices,
+            triangles: out,
+        })
+    }
+
+    /// Returns a copy with every vertex multiplied by `factor`.
+    pub fn scaled(&self, factor: f64) -> Self {
+        Self {
+            vertices: self.vertices.iter().map(|p| p * factor).collect(),
+            triangles: self.triangles.clone(),
+        }
+    }
+
+    /// The three corners of triangle `t`.
+    pub fn corners(&self, t: usize) -> [Point3; 3] {
+        self.triangles[t].map(|i| self.vertices[i as usize])
+    }
+
+    /// Axis-aligned bounds `(min, max)`.
+    pub fn bounds(&self) -> (Point3, Point3) {
+        let mut lo = Point3::new(f64::INFINITY, f64::INFINITY, f64::INFINITY);
+        let mut hi = Point3::new(f64::NEG_INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY);
+        for t in &self.triangles {
+            for &i in t {
+                let p = self.vertices[i as usize];
+                lo = lo.inf(&p);
+                hi = hi.sup(&p);
+            }
+        }
+        (lo, hi)
+    }
+
+    /// Signed enclosed volume and centre of mass (uniform density) by the divergence theorem.
+    pub fn volume_and_centroid(&self) -> (f64, Point3) {
+        let mut volume = 0.0;
+        let mut moment = Vec3::zeros();
+        for t in 0..self.triangles.len() {
+            let [a, b, c] = self.corners(t);
+            let v = a.coords.dot(&b.coords.cross(&c.coords)) / 6.0;
+            volume += v;
+            moment += (a.coords + b.coords + c.coords) * (v / 4.0);
+        }
+        let centroid = if volume.abs() > 0.0 {
+            Point3::from(moment / volume)
+        } else {
+            let (lo, hi) = self.bounds();
+            nalgebra::center(&lo, &hi)
+        };
+        (volume, centroid)
+    }
+
+    /// Checks topology and geometry: closed, manifold, consistently wound, no degenerate
+    /// triangles, positive volume. Every defect names where it is and how to fix it.
+    pub fn report(&self) -> MeshReport {
+        let (lo, hi) = self.bounds();
+        let size = hi - lo;
+        let diag = size.norm();
+        // Directed edge -> count, to find boundary, non-manifold and flipped edges.
+        let mut edges: HashMap<(u32, u32), (u32, u32)> = HashMap::new();
+        let mut degenerate = Vec::new();
+        for (t, tri) in self.triangles.iter().enumerate() {
+            let [a, b, c] = self.corners(t);
+            let area2 = (b - a).cross(&(c - a)).norm();
+            let longest = (b - a).norm().max((c - b).norm()).max((a - c).norm());
+            if area2 <= 1e-12 * diag * diag || area2 <= 1e-9 * longest * longest {
+                degenerate.push(t);
+            }
+            for k in 0..3 {
+                let (u, v) = (tri[k], tri[(k + 1) % 3]);
+                let key = (u.min(v), u.max(v));
+                let e = edges.entry(key).or_insert((0, 0));
+                if u < v {
+                    e.0 += 1;
+                } else {
+                    e.1 += 1;
+                }
+            }
+        }
+        let mut boundary = Vec::new();
+        let mut non_manifold = Vec::new();
+        let mut inconsistent = Vec::new();
+        for (&(u, v), &(fwd, back)) in &edges {
+            match fwd + back {
+                1 => boundary.push((u, v)),
+                2 if fwd != 1 => inconsistent.push((u, v)),
+                2 => {}
+                _ => non_manifold.push((u, v)),
+            }
+        }
+        boundary.sort_unstable();
+        non_manifold.sort_unstable();
+        inconsistent.sort_unstable();
+        let (volume, _) = self.volume_and_centroid();
+        let mut defects = Vec::new();
+        let first = |v: &[(u32, u32)]| format!("first at vertices {}–{}", v[0].0, v[0].1);
+        if !boundary.is_empty() {
+            defects.push(format!(
+                "{} boundary edges (the mesh has holes), {}; close the holes (e.g. Blender: Select > All by Trait > Non Manifold, then Face > Fill)",
+                boundary.len(),
+                first(&boundary)
+            ));
+        }
+        if !non_manifold.is_empty() {
+            defects.push(format!(
+                "{} non-manifold edges (shared by more than two triangles), {}; split or remove the extra faces",
+                non_manifold.len(),
+                first(&non_manifold)
+            ));
+        }
+        if !inconsistent.is_empty() {
+            defects.push(format!(
+                "{} edges with inconsistent winding (neighbouring triangles face opposite ways), {}; recalculate normals outside",
+                inconsistent.len(),
+                first(&inconsistent)
+            ));
+        }
+        if !degenerate.is_empty() {
+            defects.push(format!(
+                "{} degenerate (zero-area) triangles, first is triangle {}; remove them or merge their vertices",
+                degenerate.len(),
+                degenerate[0]
+            ));
+        }
+        if defects.is_empty() && volume <= 0.0 {
+            defects.push(format!(
+                "the mesh is inside out (volume {volume:.3e} m³); flip all normals"
+            ));
+        }
+        MeshReport {
+            triangles: self.triangles.len(),
+            vertices: self.vertices.len(),
+            boundary_edges: boundary.len(),
+            non_manifold_edges: non_manifold.len(),
+            inconsistent_edges: inconsistent.len(),
+            degenerate_triangles: degenerate.len(),
+            volume,
+            size: [size.x, size.y, size.z],
+            min: [lo.x, lo.y, lo.z],
+            max: [hi.x, hi.y, hi.z],
+            defects,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tetra() -> (Vec<Point3>, Vec<[usize; 3]>) {
+        let v = vec![
+            Point3::new(0.0, 0.0, 0.0),
+            Point3::new(1.0, 0.0, 0.0),
+            Point3::new(0.0, 1.0, 0.0),
+            Point3::new(0.0, 0.0, 1.0),
+        ];
+        let t = vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
+        (v, t)
+    }
+
+    #[test]
+    fn tetrahedron_is_closed_with_known_volume() {
+        let (v, t) = tetra();
+        let m = TriangleMesh::weld(&v, &t).unwrap();
+        let r = m.report();
+        assert!(r.defects.is_empty(), "{:?}", r.defects);
+        assert!((r.volume - 1.0 / 6.0).abs() < 1e-12);
+        let (_, c) = m.volume_and_centroid();
+        assert!((c - Point3::new(0.25, 0.25, 0.25)).norm() < 1e-12);
+    }
+
+    #[test]
+    fn welding_joins_duplicate_positions() {
+        let (v, t) = tetra();
+        // Unshare every vertex: 12 positions, 4 triangles.
+        let mut soup = Vec::new();
+        let mut tris = Vec::new();
+        for tri in &t {
+            tris.push([soup.len(), soup.len() + 1, soup.len() + 2]);
+            soup.extend(tri.iter().map(|&i| v[i]));
+        }
+        let m = TriangleMesh::weld(&soup, &tris).unwrap();
+        assert_eq!(m.vertices.len(), 4);
+        assert!(m.report().defects.is_empty());
+    }
+
+    #[test]
+    fn open_mesh_names_boundary_edges() {
+        let (v, mut t) = tetra();
+        t.pop();
+        let r = TriangleMesh::weld(&v, &t).unwrap().report();
+        assert_eq!(r.boundary_edges, 3);
+        assert!(r.defects[0].contains("3 boundary edges"), "{}", r.defects[0]);
+    }
+
+    #[test]
+    fn flipped_triangle_is_inconsistent() {
+        let (v, mut t) = tetra();
+        t[3] = [1, 3, 2];
+        let r = TriangleMesh::weld(&v, &t).unwrap().report();
+        assert_eq!(r.inconsistent_edges, 3);
+    }
+
+    #[test]
+    fn non_manifold_and_degenerate_are_found() {
+        let (mut v, mut t) = tetra();
+        t.push([0, 1, 3]);
+        let r = TriangleMesh::weld(&v, &t).unwrap().report();
+        assert!(r.non_manifold_edges >= 1);
+        v.push(Point3::new(2.0, 0.0, 0.0));
+        let (v2, _) = tetra();
+        let mut t2 = vec![[0usize, 1, 4]];
+        t2.extend(tetra().1);
+        let mut v3 = v2.clone();
+        v3.push(Point3::new(0.5, 0.0, 0.0));
+        let r = TriangleMesh::weld(&v3, &t2).unwrap().report();
+        assert_eq!(r.degenerate_triangles, 1);
+    }
+
+    #[test]
+    fn nan_and_bad_index_are_errors() {
+        let (mut v, t) = tetra();
+        v[2].y = f64::NAN;
+        assert!(matches!(
+            TriangleMesh::weld(&v, &t),
+            Err(MeshError::NonFinite { vertex: 2, .. })
+        ));
+        let (v, mut t) = tetra();
+        t[1][2] = 9;
+        assert!(matches!(
+            TriangleMesh::weld(&v, &t),
+            Err(MeshError::IndexOutOfRange { triangle: 1, index: 9, .. })
+        ));
+        assert_eq!(TriangleMesh::weld(&v, &[]), Err(MeshError::Empty));
+    }
+
+    #[test]
+    fn inside_out_mesh_is_reported() {
+        let (v, t) = tetra();
+        let flipped: Vec<[usize; 3]> = t.iter().map(|&[a, b, c]| [a, c, b]).collect();
+        let r = TriangleMesh::weld(&v, &flipped).unwrap().report();
+        assert!(r.defects.iter().any(|d| d.contains("inside out")));
+    }
+}

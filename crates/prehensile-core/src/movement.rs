@@ -1,0 +1,190 @@
+//! Grasp movements (§5.3, §6.3.2): a start pose and an end pose, interpolated per bone by slerp.
+
+use crate::hand::{HandError, HandModel, MovementDescription};
+use crate::math::{Point3, Rotation, Transform};
+
+/// A grasp movement of one hand: start and end joint rotations, its grasp center, and the
+/// fingers that must touch for the grasp to count.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GraspMovement {
+    name: String,
+    start_angles: Vec<f64>,
+    end_angles: Vec<f64>,
+    start: Vec<Rotation>,
+    end: Vec<Rotation>,
+    grasp_center: Point3,
+    contact_fingers: Vec<usize>,
+}
+
+impl GraspMovement {
+    /// Name of the movement.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Grasp center in the hand (root bone) frame (§5.2.1).
+    pub fn grasp_center(&self) -> Point3 {
+        self.grasp_center
+    }
+
+    /// Fingers (indices) that must touch the object.
+    pub fn contact_fingers(&self) -> &[usize] {
+        &self.contact_fingers
+    }
+
+    /// Joint angles of the start pose (radians, couplings applied).
+    pub fn start_angles(&self) -> &[f64] {
+        &self.start_angles
+    }
+
+    /// Joint angles of the end pose.
+    pub fn end_angles(&self) -> &[f64] {
+        &self.end_angles
+    }
+
+    /// Start joint rotation of every bone.
+    pub fn start_rotations(&self) -> &[Rotation] {
+        &self.start
+    }
+
+    /// Joint rotation of `bone` at fraction `f` ∈ [0, 1] of the movement.
+    #[inline]
+    pub fn rotation_at(&self, bone: usize, f: f64) -> Rotation {
+        self.start[bone].slerp(&self.end[bone], f)
+    }
+
+    /// Builds a movement from its description, checking names, counts and limits.
+    pub fn from_description(hand: &HandModel, d: &MovementDescription) -> Result<Self, HandError> {
+        let angles = |which: &str,
+                      pose: &std::collections::BTreeMap<String, Vec<f64>>|
+         -> Result<Vec<f64>, HandError> {
+            let mut out = vec![0.0; hand.dof_count()];
+            for (bone_name, values) in pose {
+                let i = hand.bone_index(bone_name).ok_or_else(|| {
+                    HandError::Invalid(format!(
+                        "movement '{}' ({which} pose) names bone '{bone_name}', which does not exist",
+                        d.name
+                    ))
+                })?;
+                let bone = &hand.bones()[i];
+                if values.len() != bone.joint.dofs() {
+                    return Err(HandError::Invalid(format!(
+                        "movement '{}' ({which} pose) gives {} angle(s) for bone '{bone_name}', whose joint has {}",
+                        d.name,
+                        values.len(),
+                        bone.joint.dofs()
+                    )));
+                }
+                for (k, v) in values.iter().enumerate() {
+                    let [lo, hi] = bone.joint.limits(k);
+                    let rad = v.to_radians();
+                    if !rad.is_finite() || rad < lo - 1e-9 || rad > hi + 1e-9 {
+                        return Err(HandError::Invalid(format!(
+                            "movement '{}' ({which} pose): bone '{bone_name}' angle {k} = {v}° is outside its limits [{:.1}°, {:.1}°]",
+                            d.name,
+                            lo.to_degrees(),
+                            hi.to_degrees()
+                        )));
+                    }
+                    out[bone.first_dof + k] = rad;
+                }
+            }
+            hand.constrain(&mut out);
+            Ok(out)
+        };
+        let start_angles = angles("start", &d.start)?;
+        let end_angles = angles("end", &d.end)?;
+        let finger_ids = |names: &[String]| -> Result<Vec<usize>, HandError> {
+            names
+                .iter()
+                .map(|f| {
+                    hand.finger_index(f).ok_or_else(|| {
+                        HandError::Invalid(format!(
+                            "movement '{}' names finger '{f}'; the hand's fingers are {:?}",
+                            d.name,
+                            hand.fingers().iter().map(|f| &f.name).collect::<Vec<_>>()
+                        ))
+                    })
+                })
+                .collect()
+        };
+        let between = finger_ids(&d.grasp_center_between)?;
+        let contact_fingers = finger_ids(&d.contact_fingers)?;
+        let mut movement = Self::from_angles(hand, &d.name, start_angles, end_angles, Point3::origin());
+        movement.contact_fingers = contact_fingers;
+        movement.grasp_center = match (d.grasp_center, between.is_empty()) {
+            (Some(c), true) if c.iter().all(|x| x.is_finite()) => Point3::from(c),
+            (Some(_), true) => {
+                return Err(HandError::Invalid(format!(
+                    "movement '{}': grasp_center is not finite",
+                    d.name
+                )))
+            }
+            (Some(_), false) => {
+                return Err(HandError::Invalid(format!(
+                    "movement '{}': give either grasp_center or grasp_center_between, not both",
+                    d.name
+                )))
+            }
+            (None, false) => movement.tip_centroid(hand, &between, 1.0),
+            (None, true) => {
+                let all: Vec<usize> = (0..hand.fingers().len()).collect();
+                movement.tip_centroid(hand, &all, 0.5)
+            }
+        };
+        Ok(movement)
+    }
+
+    /// The generic movement every hand gets: from the open pose (all angles zero, clamped into the
+    /// limits) to every flexion at its upper limit; grasp center between the fingertips half-way.
+    pub fn generic_close(hand: &HandModel) -> Self {
+        let mut start = vec![0.0; hand.dof_count()];
+        hand.constrain(&mut start);
+        let mut end = start.clone();
+        for bone in hand.bones().iter().skip(1) {
+            if bone.joint.dofs() > 0 && !matches!(bone.joint, crate::hand::Joint::Ball { .. }) {
+                end[bone.first_dof] = bone.joint.limits(0)[1];
+            }
+        }
+        hand.constrain(&mut end);
+        let mut m = Self::from_angles(hand, "close", start, end, Point3::origin());
+        let all: Vec<usize> = (0..hand.fingers().len()).collect();
+        m.grasp_center = m.tip_centroid(hand, &all, 0.5);
+        m.contact_fingers = Vec::new();
+        m
+    }
+
+    fn from_angles(
+        hand: &HandModel,
+        name: &str,
+        start_angles: Vec<f64>,
+        end_angles: Vec<f64>,
+        grasp_center: Point3,
+    ) -> Self {
+        let n = hand.bones().len();
+        let mut start = vec![Rotation::identity(); n];
+        let mut end = vec![Rotation::identity(); n];
+        hand.joint_rotations(&start_angles, &mut start);
+        hand.joint_rotations(&end_angles, &mut end);
+        Self {
+            name: name.to_string(),
+            start_angles,
+            end_angles,
+            start,
+            end,
+            grasp_center,
+            contact_fingers: Vec::new(),
+        }
+    }
+
+    /// Centroid of the given fingers' tips (hand frame) at fraction `f` of the movement.
+    fn tip_centroid(&self, hand: &HandModel, fingers: &[usize], f: f64) -> Point3 {
+        let rotations: Vec<Rotation> = (0..hand.bones().len()).map(|b| self.rotation_at(b, f)).collect();
+        let world = hand.pose_transforms(&Transform::identity(), &rotations);
+        let sum = fingers.iter().fold(Point3::origin().coords, |acc, &fi| {
+            let finger = &hand.fingers()[fi];
+            acc + (world[*finger.bones.last().unwrap()] * finger.tip).coords
+        });
+        Point3::from(sum / fingers.len().max(1) as f64)
+    }
+}

@@ -1,0 +1,113 @@
+//! The graspable object (§3.2, §5.2.2): a checked closed mesh, its mass properties, hooks and
+//! collision structures, built once and shared read-only.
+
+use crate::collision::{Capsule, CollisionCounters, MeshCollider};
+use crate::math::Point3;
+use crate::mesh::{MeshError, MeshReport, TriangleMesh};
+
+/// Smallest object size accepted (largest side), metres.
+pub const MIN_OBJECT_SIZE: f64 = 1e-3;
+/// Largest object size accepted (largest side), metres.
+pub const MAX_OBJECT_SIZE: f64 = 100.0;
+
+/// Why a mesh cannot become a graspable object.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum ObjectError {
+    /// The mesh itself is malformed or not closed.
+    #[error(transparent)]
+    Mesh(#[from] MeshError),
+    /// The object is implausibly small or large, usually a units mistake.
+    #[error("the object is {size:.3e} m across; expected between {MIN_OBJECT_SIZE} m and {MAX_OBJECT_SIZE} m. Is it in millimetres? Use --scale 0.001 (or the right factor)")]
+    AbsurdSize {
+        /// Largest side in metres.
+        size: f64,
+    },
+    /// A hook is not a finite point.
+    #[error("hook {0} is not a finite point")]
+    BadHook(usize),
+}
+
+/// A closed triangle mesh ready for grasping: mass properties, hooks, colliders.
+#[derive(Debug, Clone)]
+pub struct ObjectModel {
+    name: String,
+    mesh: TriangleMesh,
+    report: MeshReport,
+    center_of_mass: Point3,
+    hooks: Vec<Point3>,
+    collider: MeshCollider,
+}
+
+impl ObjectModel {
+    /// Checks the mesh (closed, manifold, consistent, no degenerate triangles, plausible size),
+    /// computes its mass properties and builds its colliders. Hooks default to the centre of mass.
+    pub fn new(name: &str, mesh: TriangleMesh, hooks: Option<Vec<Point3>>) -> Result<Self, ObjectError> {
+        let report = mesh.report();
+        let size = report.size.iter().copied().fold(0.0, f64::max);
+        if !(MIN_OBJECT_SIZE..=MAX_OBJECT_SIZE).contains(&size) {
+            return Err(ObjectError::AbsurdSize { size });
+        }
+        if !report.defects.is_empty() {
+            return Err(MeshError::Defective(report).into());
+        }
+        let (_, center_of_mass) = mesh.volume_and_centroid();
+        let hooks = hooks.unwrap_or_else(|| vec![center_of_mass]);
+        for (i, h) in hooks.iter().enumerate() {
+            if !h.iter().all(|c| c.is_finite()) {
+                return Err(ObjectError::BadHook(i));
+            }
+        }
+        // The distance grid reaches 3 cm past the mesh: far enough to cover a hand closing on it.
+        let collider = MeshCollider::new(&mesh, 0.03);
+        Ok(Self {
+            name: name.to_string(),
+            mesh,
+            report,
+            center_of_mass,
+            hooks,
+            collider,
+        })
+    }
+
+    /// Name of the object.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The welded mesh.
+    pub fn mesh(&self) -> &TriangleMesh {
+        &self.mesh
+    }
+
+    /// The mesh check.
+    pub fn report(&self) -> &MeshReport {
+        &self.report
+    }
+
+    /// Enclosed volume, m³.
+    pub fn volume(&self) -> f64 {
+        self.report.volume
+    }
+
+    /// Centre of mass for uniform density.
+    pub fn center_of_mass(&self) -> Point3 {
+        self.center_of_mass
+    }
+
+    /// Hooks (§5.2.2).
+    pub fn hooks(&self) -> &[Point3] {
+        &self.hooks
+    }
+
+    /// Both collision paths.
+    pub fn collider(&self) -> &MeshCollider {
+        &self.collider
+    }
+
+    /// Does the capsule touch or lie inside the object? (fast path, exact answer)
+    #[inline]
+    pub fn capsule_touches(&self, capsule: &Capsule, counters: &mut CollisionCounters) -> bool {
+        self.collider.capsule_touches(capsule, counters)
+    }
+}

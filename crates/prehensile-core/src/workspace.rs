@@ -1,0 +1,49 @@
+//! Per-thread mutable buffers for the hot loops, sized once from a hand model (the model/workspace
+//! split of MuJoCo's mjModel/mjData).
+
+use crate::collision::{Capsule, CollisionCounters};
+use crate::hand::HandModel;
+use crate::math::{Rotation, Transform};
+
+/// Scratch space for kinematics, collision and finger closing. Make one per thread.
+#[derive(Debug, Clone)]
+pub struct Workspace {
+    /// Joint rotation of every bone.
+    pub rotations: Vec<Rotation>,
+    /// World transform of every bone.
+    pub world: Vec<Transform>,
+    /// Interpolation fraction each bone has reached.
+    pub fraction: Vec<f64>,
+    /// Whether each bone has stopped.
+    pub stopped: Vec<bool>,
+    /// Whether each bone stopped because it touched the object.
+    pub touching: Vec<bool>,
+    /// Interpolation index each bone reached (0..=N).
+    pub reached: Vec<u32>,
+    /// World capsules of the current pose, one per hand capsule.
+    pub capsules: Vec<Capsule>,
+    /// Collision query counts.
+    pub counters: CollisionCounters,
+}
+
+impl Workspace {
+    /// Buffers sized for `hand`.
+    pub fn new(hand: &HandModel) -> Self {
+        let n = hand.bones().len();
+        let zero = Capsule {
+            a: Default::default(),
+            b: Default::default(),
+            radius: 0.0,
+        };
+        Self {
+            rotations: vec![Rotation::identity(); n],
+            world: vec![Transform::identity(); n],
+            fraction: vec![0.0; n],
+            stopped: vec![false; n],
+            touching: vec![false; n],
+            reached: vec![0; n],
+            capsules: vec![zero; hand.capsules().len()],
+            counters: CollisionCounters::default(),
+        }
+    }
+}

@@ -1,0 +1,67 @@
+//! Hands described in TOML (see `docs/HAND_FORMAT.md`), and the built-in hands.
+
+use std::path::Path;
+
+use prehensile_core::{HandDescription, HandModel};
+
+use crate::FormatError;
+
+/// Names of the built-in hands.
+pub const BUILTIN_HANDS: [&str; 3] = ["human", "robot3", "cartoon4"];
+
+/// The built-in hand with this name, or `None`.
+pub fn builtin_hand(name: &str) -> Option<HandModel> {
+    let text = match name {
+        "human" => include_str!("../../../assets/hands/human.toml"),
+        "robot3" => include_str!("../../../assets/hands/robot3.toml"),
+        "cartoon4" => include_str!("../../../assets/hands/cartoon4.toml"),
+        _ => return None,
+    };
+    Some(parse_hand_toml(text, name).expect("built-in hands are valid (tested)"))
+}
+
+/// Parses and validates a hand description. `source_name` names the text in errors.
+pub fn parse_hand_toml(text: &str, source_name: &str) -> Result<HandModel, FormatError> {
+    let desc: HandDescription = toml::from_str(text).map_err(|e| {
+        let location = e.span().map(|s| format!("line {}", line_of(text, s.start)));
+        FormatError {
+            source_name: source_name.to_string(),
+            location,
+            reason: e.message().to_string(),
+        }
+    })?;
+    HandModel::from_description(&desc).map_err(|e| FormatError::new(source_name, e.to_string()))
+}
+
+/// Reads a hand file.
+pub fn load_hand(path: &Path) -> Result<HandModel, FormatError> {
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| FormatError::new(&name, format!("cannot read the file: {e}")))?;
+    parse_hand_toml(&text, &name)
+}
+
+fn line_of(text: &str, byte: usize) -> usize {
+    text[..byte.min(text.len())].matches('\n').count() + 1
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn builtin_hands_load() {
+        for name in BUILTIN_HANDS {
+            let hand = builtin_hand(name).unwrap();
+            assert!(hand.fingers().len() >= 2, "{name}");
+            assert!(hand.movement("close").is_some(), "{name}");
+        }
+        assert!(builtin_hand("octopus").is_none());
+    }
+
+    #[test]
+    fn syntax_errors_give_the_line() {
+        let err = parse_hand_toml("name = \"x\"\n[[bones]]\nname = 3\n", "bad.toml").unwrap_err();
+        assert_eq!(err.location.as_deref(), Some("line 3"), "{err}");
+    }
+}

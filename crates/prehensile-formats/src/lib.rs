@@ -1,0 +1,20 @@
+//! # prehensile-formats
+//!
+//! Reading and writing for Prehensile: meshes (OBJ, STL ascii and binary, PLY ascii and binary)
+//! and hand descriptions (TOML), plus the built-in hands. Builds core types; knows nothing of
+//! physics engines. Every error names the file, the line or element, and the reason.
+#![warn(missing_docs)]
+
+mod error;
+mod hand_toml;
+mod mesh_obj;
+mod mesh_ply;
+mod mesh_stl;
+mod meshes;
+
+pub use error::FormatError;
+pub use hand_toml::{builtin_hand, load_hand, parse_hand_toml, BUILTIN_HANDS};
+pub use mesh_obj::parse_obj;
+pub use mesh_ply::parse_ply;
+pub use mesh_stl::parse_stl;
+pub use meshes::{load_object, read_mesh, write_obj};

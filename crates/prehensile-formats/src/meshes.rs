@@ -1,0 +1,70 @@
+//! Mesh files by extension, and objects loaded from them.
+
+use std::path::Path;
+
+use prehensile_core::math::Point3;
+use prehensile_core::{ObjectModel, TriangleMesh};
+
+use crate::{parse_obj, parse_ply, parse_stl, FormatError};
+
+/// Largest mesh file read, bytes.
+const MAX_FILE_BYTES: u64 = 2 << 30;
+
+/// Reads an OBJ, STL or PLY file into a welded mesh, every coordinate multiplied by `scale`.
+pub fn read_mesh(path: &Path, scale: f64) -> Result<TriangleMesh, FormatError> {
+    let name = path.display().to_string();
+    if !(scale.is_finite() && scale > 0.0) {
+        return Err(FormatError::new(&name, format!("scale {scale} must be a positive number")));
+    }
+    let size = std::fs::metadata(path)
+        .map_err(|e| FormatError::new(&name, format!("cannot read the file: {e}")))?
+        .len();
+    if size > MAX_FILE_BYTES {
+        return Err(FormatError::new(&name, format!("{size} bytes is larger than the {MAX_FILE_BYTES}-byte limit")));
+    }
+    let bytes = std::fs::read(path).map_err(|e| FormatError::new(&name, format!("cannot read the file: {e}")))?;
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .unwrap_or_default();
+    let (vertices, triangles) = match ext.as_str() {
+        "obj" => {
+            let text = std::str::from_utf8(&bytes)
+                .map_err(|e| FormatError::new(&name, format!("an OBJ file must be text: {e}")))?;
+            parse_obj(text, &name)?
+        }
+        "stl" => parse_stl(&bytes, &name)?,
+        "ply" => parse_ply(&bytes, &name)?,
+        _ => {
+            return Err(FormatError::new(
+                &name,
+                format!("unknown mesh extension '.{ext}'; use .obj, .stl or .ply"),
+            ))
+        }
+    };
+    let scaled: Vec<Point3> = vertices.iter().map(|p| p * scale).collect();
+    TriangleMesh::weld(&scaled, &triangles).map_err(|e| FormatError::new(&name, e.to_string()))
+}
+
+/// Reads a mesh file and makes a graspable object of it, hooked at its centre of mass.
+pub fn load_object(path: &Path, scale: f64) -> Result<ObjectModel, FormatError> {
+    let mesh = read_mesh(path, scale)?;
+    let name = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "object".into());
+    ObjectModel::new(&name, mesh, None).map_err(|e| FormatError::new(&path.display().to_string(), e.to_string()))
+}
+
+/// Writes a mesh as OBJ text.
+pub fn write_obj(mesh: &TriangleMesh) -> String {
+    let mut s = String::with_capacity(mesh.vertices.len() * 40 + mesh.triangles.len() * 20);
+    for v in &mesh.vertices {
+        s.push_str(&format!("v {:.9} {:.9} {:.9}\n", v.x, v.y, v.z));
+    }
+    for t in &mesh.triangles {
+        s.push_str(&format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1));
+    }
+    s
+}
