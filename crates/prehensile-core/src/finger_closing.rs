@@ -177,11 +177,17 @@ fn capsule_travel(
 ) -> f64 {
     let bone = &hand.bones()[b];
     let parent = bone.parent.map_or(Transform::identity(), |p| ws.world[p]);
-    let at = |f: f64| parent * bone.rest * Transform::from_parts(Default::default(), movement.rotation_at(b, f));
+    let at = |f: f64| {
+        parent * bone.rest * Transform::from_parts(Default::default(), movement.rotation_at(b, f))
+    };
     let (w0, w1) = (at(lo), at(hi));
     hand.bone_capsules(b)
         .iter()
-        .map(|c| ((w0 * c.a) - (w1 * c.a)).norm().max(((w0 * c.b) - (w1 * c.b)).norm()))
+        .map(|c| {
+            ((w0 * c.a) - (w1 * c.a))
+                .norm()
+                .max(((w0 * c.b) - (w1 * c.b)).norm())
+        })
         .fold(0.0, f64::max)
 }
 

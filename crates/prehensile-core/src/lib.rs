@@ -25,6 +25,7 @@ pub mod mesh;
 pub mod movement;
 pub mod object;
 pub mod shapes;
+pub mod translate_to_free;
 pub mod workspace;
 
 pub use collision::{Capsule, CollisionCounters};

@@ -33,7 +33,9 @@ pub enum MeshError {
         value: [f64; 3],
     },
     /// A triangle refers to a vertex that does not exist.
-    #[error("triangle {triangle} refers to vertex {index}, but there are only {vertex_count} vertices")]
+    #[error(
+        "triangle {triangle} refers to vertex {index}, but there are only {vertex_count} vertices"
+    )]
     IndexOutOfRange {
         /// Triangle index.
         triangle: usize,
@@ -43,7 +45,9 @@ pub enum MeshError {
         vertex_count: usize,
     },
     /// More triangles than [`MAX_TRIANGLES`].
-    #[error("{count} triangles is more than the limit of {MAX_TRIANGLES}; decimate the mesh first")]
+    #[error(
+        "{count} triangles is more than the limit of {MAX_TRIANGLES}; decimate the mesh first"
+    )]
     TooLarge {
         /// Number of triangles given.
         count: usize,
@@ -327,7 +331,11 @@ mod tests {
         t.pop();
         let r = TriangleMesh::weld(&v, &t).unwrap().report();
         assert_eq!(r.boundary_edges, 3);
-        assert!(r.defects[0].contains("3 boundary edges"), "{}", r.defects[0]);
+        assert!(
+            r.defects[0].contains("3 boundary edges"),
+            "{}",
+            r.defects[0]
+        );
     }
 
     #[test]
@@ -366,7 +374,11 @@ mod tests {
         t[1][2] = 9;
         assert!(matches!(
             TriangleMesh::weld(&v, &t),
-            Err(MeshError::IndexOutOfRange { triangle: 1, index: 9, .. })
+            Err(MeshError::IndexOutOfRange {
+                triangle: 1,
+                index: 9,
+                ..
+            })
         ));
         assert_eq!(TriangleMesh::weld(&v, &[]), Err(MeshError::Empty));
     }

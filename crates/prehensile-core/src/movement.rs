@@ -110,7 +110,8 @@ impl GraspMovement {
         };
         let between = finger_ids(&d.grasp_center_between)?;
         let contact_fingers = finger_ids(&d.contact_fingers)?;
-        let mut movement = Self::from_angles(hand, &d.name, start_angles, end_angles, Point3::origin());
+        let mut movement =
+            Self::from_angles(hand, &d.name, start_angles, end_angles, Point3::origin());
         movement.contact_fingers = contact_fingers;
         movement.grasp_center = match (d.grasp_center, between.is_empty()) {
             (Some(c), true) if c.iter().all(|x| x.is_finite()) => Point3::from(c),
@@ -179,7 +180,9 @@ impl GraspMovement {
 
     /// Centroid of the given fingers' tips (hand frame) at fraction `f` of the movement.
     fn tip_centroid(&self, hand: &HandModel, fingers: &[usize], f: f64) -> Point3 {
-        let rotations: Vec<Rotation> = (0..hand.bones().len()).map(|b| self.rotation_at(b, f)).collect();
+        let rotations: Vec<Rotation> = (0..hand.bones().len())
+            .map(|b| self.rotation_at(b, f))
+            .collect();
         let world = hand.pose_transforms(&Transform::identity(), &rotations);
         let sum = fingers.iter().fold(Point3::origin().coords, |acc, &fi| {
             let finger = &hand.fingers()[fi];

@@ -42,7 +42,11 @@ pub struct ObjectModel {
 impl ObjectModel {
     /// Checks the mesh (closed, manifold, consistent, no degenerate triangles, plausible size),
     /// computes its mass properties and builds its colliders. Hooks default to the centre of mass.
-    pub fn new(name: &str, mesh: TriangleMesh, hooks: Option<Vec<Point3>>) -> Result<Self, ObjectError> {
+    pub fn new(
+        name: &str,
+        mesh: TriangleMesh,
+        hooks: Option<Vec<Point3>>,
+    ) -> Result<Self, ObjectError> {
         let report = mesh.report();
         let size = report.size.iter().copied().fold(0.0, f64::max);
         if !(MIN_OBJECT_SIZE..=MAX_OBJECT_SIZE).contains(&size) {

@@ -63,7 +63,11 @@ pub fn sphere(radius: f64, segments: usize, rings: usize) -> TriangleMesh {
     let profile: Vec<(f64, f64)> = (0..=rings)
         .map(|k| {
             let phi = PI * k as f64 / rings as f64;
-            let r = if k == 0 || k == rings { 0.0 } else { radius * phi.sin() };
+            let r = if k == 0 || k == rings {
+                0.0
+            } else {
+                radius * phi.sin()
+            };
             (r, -radius * phi.cos())
         })
         .collect();
@@ -158,7 +162,12 @@ pub fn mug(radius: f64, height: f64, thickness: f64, segments: usize) -> Triangl
     let (row_a, row_b) = (3, 6);
     let hole = |row: usize| {
         let p = 1 + row;
-        [ring_vertex(p, 0), ring_vertex(p, 1), ring_vertex(p + 1, 1), ring_vertex(p + 1, 0)]
+        [
+            ring_vertex(p, 0),
+            ring_vertex(p, 1),
+            ring_vertex(p + 1, 1),
+            ring_vertex(p + 1, 0),
+        ]
     };
     let holes = [hole(row_a), hole(row_b)];
     t.retain(|tri| !holes.iter().any(|h| tri.iter().all(|i| h.contains(i))));

@@ -8,7 +8,10 @@ use prehensile_core::math::Point3;
 use crate::FormatError;
 
 /// Parses OBJ text into positions and triangles. Negative (relative) indices are supported.
-pub fn parse_obj(text: &str, source_name: &str) -> Result<(Vec<Point3>, Vec<[usize; 3]>), FormatError> {
+pub fn parse_obj(
+    text: &str,
+    source_name: &str,
+) -> Result<(Vec<Point3>, Vec<[usize; 3]>), FormatError> {
     let mut vertices = Vec::new();
     let mut triangles = Vec::new();
     for (n, raw) in text.lines().enumerate() {
@@ -46,7 +49,10 @@ pub fn parse_obj(text: &str, source_name: &str) -> Result<(Vec<Point3>, Vec<[usi
                     face.push(resolved as usize);
                 }
                 if face.len() < 3 {
-                    return Err(err(format!("a face needs at least 3 vertices, this one has {}", face.len())));
+                    return Err(err(format!(
+                        "a face needs at least 3 vertices, this one has {}",
+                        face.len()
+                    )));
                 }
                 for k in 1..face.len() - 1 {
                     triangles.push([face[0], face[k], face[k + 1]]);
@@ -56,7 +62,10 @@ pub fn parse_obj(text: &str, source_name: &str) -> Result<(Vec<Point3>, Vec<[usi
         }
     }
     if triangles.is_empty() {
-        return Err(FormatError::new(source_name, "no faces found; is this an OBJ mesh?"));
+        return Err(FormatError::new(
+            source_name,
+            "no faces found; is this an OBJ mesh?",
+        ));
     }
     Ok((vertices, triangles))
 }
@@ -67,7 +76,11 @@ mod tests {
 
     #[test]
     fn quads_are_fanned_and_negative_indices_work() {
-        let (v, t) = parse_obj("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf -4 -3 -2 -1\n", "q.obj").unwrap();
+        let (v, t) = parse_obj(
+            "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf -4 -3 -2 -1\n",
+            "q.obj",
+        )
+        .unwrap();
         assert_eq!(v.len(), 4);
         assert_eq!(t, vec![[0, 1, 2], [0, 2, 3]]);
     }

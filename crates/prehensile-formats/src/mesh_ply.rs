@@ -102,7 +102,9 @@ impl Body<'_> {
         }
         let n = s.size();
         let Some(raw) = self.bytes.get(self.pos..self.pos + n) else {
-            return Err(self.err("the file ends before all elements declared in the header (truncated)"));
+            return Err(
+                self.err("the file ends before all elements declared in the header (truncated)")
+            );
         };
         self.pos += n;
         let mut buf = [0u8; 8];
@@ -124,16 +126,25 @@ impl Body<'_> {
 }
 
 /// Parses PLY bytes into positions and triangles (polygons are fanned).
-pub fn parse_ply(bytes: &[u8], source_name: &str) -> Result<(Vec<Point3>, Vec<[usize; 3]>), FormatError> {
+pub fn parse_ply(
+    bytes: &[u8],
+    source_name: &str,
+) -> Result<(Vec<Point3>, Vec<[usize; 3]>), FormatError> {
     let header_end = bytes
         .windows(10)
         .position(|w| w == b"end_header")
-        .ok_or_else(|| FormatError::new(source_name, "no 'end_header' line; this is not a PLY file"))?;
+        .ok_or_else(|| {
+            FormatError::new(source_name, "no 'end_header' line; this is not a PLY file")
+        })?;
     let header = std::str::from_utf8(&bytes[..header_end])
         .map_err(|_| FormatError::at(source_name, "header", "the header is not text"))?;
     let mut lines = header.lines().enumerate();
     if lines.next().map(|(_, l)| l.trim()) != Some("ply") {
-        return Err(FormatError::at(source_name, "line 1", "a PLY file starts with 'ply'"));
+        return Err(FormatError::at(
+            source_name,
+            "line 1",
+            "a PLY file starts with 'ply'",
+        ));
     }
     let mut encoding = None;
     let mut elements: Vec<Element> = Vec::new();
@@ -146,13 +157,19 @@ pub fn parse_ply(bytes: &[u8], source_name: &str) -> Result<(Vec<Point3>, Vec<[u
                     "ascii" => Encoding::Ascii,
                     "binary_little_endian" => Encoding::Little,
                     "binary_big_endian" => Encoding::Big,
-                    other => return Err(FormatError::at(source_name, at, format!("unknown format '{other}'"))),
+                    other => {
+                        return Err(FormatError::at(
+                            source_name,
+                            at,
+                            format!("unknown format '{other}'"),
+                        ))
+                    }
                 })
             }
             ["element", name, count] => {
-                let count: usize = count
-                    .parse()
-                    .map_err(|_| FormatError::at(source_name, &at, format!("'{count}' is not a count")))?;
+                let count: usize = count.parse().map_err(|_| {
+                    FormatError::at(source_name, &at, format!("'{count}' is not a count"))
+                })?;
                 elements.push(Element {
                     name: name.to_string(),
                     count,
@@ -163,23 +180,25 @@ pub fn parse_ply(bytes: &[u8], source_name: &str) -> Result<(Vec<Point3>, Vec<[u
                 let (Some(c), Some(t)) = (Scalar::parse(c), Scalar::parse(t)) else {
                     return Err(FormatError::at(source_name, at, "unknown property type"));
                 };
-                let e = elements
-                    .last_mut()
-                    .ok_or_else(|| FormatError::at(source_name, &at, "property before any element"))?;
+                let e = elements.last_mut().ok_or_else(|| {
+                    FormatError::at(source_name, &at, "property before any element")
+                })?;
                 e.properties.push(Property::List(name.to_string(), c, t));
             }
             ["property", t, name] => {
-                let t = Scalar::parse(t)
-                    .ok_or_else(|| FormatError::at(source_name, &at, format!("unknown property type '{t}'")))?;
-                let e = elements
-                    .last_mut()
-                    .ok_or_else(|| FormatError::at(source_name, &at, "property before any element"))?;
+                let t = Scalar::parse(t).ok_or_else(|| {
+                    FormatError::at(source_name, &at, format!("unknown property type '{t}'"))
+                })?;
+                let e = elements.last_mut().ok_or_else(|| {
+                    FormatError::at(source_name, &at, "property before any element")
+                })?;
                 e.properties.push(Property::Scalar(name.to_string(), t));
             }
             _ => {}
         }
     }
-    let encoding = encoding.ok_or_else(|| FormatError::at(source_name, "header", "no 'format' line"))?;
+    let encoding =
+        encoding.ok_or_else(|| FormatError::at(source_name, "header", "no 'format' line"))?;
     let mut body_start = header_end + "end_header".len();
     while body_start < bytes.len() && bytes[body_start] != b'\n' {
         body_start += 1;
@@ -202,15 +221,26 @@ pub fn parse_ply(bytes: &[u8], source_name: &str) -> Result<(Vec<Point3>, Vec<[u
             return Err(FormatError::at(
                 source_name,
                 format!("element '{}'", e.name),
-                format!("the header declares {} of them but the body has only {body_len} bytes", e.count),
+                format!(
+                    "the header declares {} of them but the body has only {body_len} bytes",
+                    e.count
+                ),
             ));
         }
         let xyz: Vec<Option<usize>> = ["x", "y", "z"]
             .iter()
-            .map(|n| e.properties.iter().position(|p| matches!(p, Property::Scalar(s, _) if s == n)))
+            .map(|n| {
+                e.properties
+                    .iter()
+                    .position(|p| matches!(p, Property::Scalar(s, _) if s == n))
+            })
             .collect();
         if e.name == "vertex" && xyz.iter().any(Option::is_none) {
-            return Err(FormatError::at(source_name, "element 'vertex'", "it has no x, y and z properties"));
+            return Err(FormatError::at(
+                source_name,
+                "element 'vertex'",
+                "it has no x, y and z properties",
+            ));
         }
         for _ in 0..e.count {
             let mut p = [0.0; 3];
@@ -226,9 +256,12 @@ pub fn parse_ply(bytes: &[u8], source_name: &str) -> Result<(Vec<Point3>, Vec<[u
                     Property::List(name, c, t) => {
                         let len = body.read(*c)?;
                         if !(0.0..=1024.0).contains(&len) {
-                            return Err(body.err(&format!("a list of {len} entries is not plausible")));
+                            return Err(
+                                body.err(&format!("a list of {len} entries is not plausible"))
+                            );
                         }
-                        let keep = e.name == "face" && (name == "vertex_indices" || name == "vertex_index");
+                        let keep = e.name == "face"
+                            && (name == "vertex_indices" || name == "vertex_index");
                         for _ in 0..len as usize {
                             let v = body.read(*t)?;
                             if keep {
@@ -242,13 +275,19 @@ pub fn parse_ply(bytes: &[u8], source_name: &str) -> Result<(Vec<Point3>, Vec<[u
                 vertices.push(Point3::from(p));
             } else if e.name == "face" {
                 if face.len() < 3 {
-                    return Err(body.err(&format!("face {} has fewer than 3 vertices", triangles.len())));
+                    return Err(body.err(&format!(
+                        "face {} has fewer than 3 vertices",
+                        triangles.len()
+                    )));
                 }
                 let idx: Vec<usize> = face
                     .iter()
                     .map(|&v| {
                         if v < 0.0 || v >= vertices.len() as f64 {
-                            Err(body.err(&format!("face refers to vertex {v}, but there are {} vertices", vertices.len())))
+                            Err(body.err(&format!(
+                                "face refers to vertex {v}, but there are {} vertices",
+                                vertices.len()
+                            )))
                         } else {
                             Ok(v as usize)
                         }
@@ -296,7 +335,10 @@ mod tests {
     #[test]
     fn bad_counts_and_indices_are_errors() {
         let huge = ASCII.replace("element vertex 3", "element vertex 999999999999");
-        assert!(parse_ply(huge.as_bytes(), "h.ply").unwrap_err().reason.contains("declares"));
+        assert!(parse_ply(huge.as_bytes(), "h.ply")
+            .unwrap_err()
+            .reason
+            .contains("declares"));
         let bad = ASCII.replace("3 0 1 2", "3 0 1 9");
         let e = parse_ply(bad.as_bytes(), "i.ply").unwrap_err();
         assert!(e.reason.contains("vertex 9"), "{e}");

@@ -8,7 +8,10 @@ use prehensile_core::math::Point3;
 use crate::FormatError;
 
 /// Parses STL bytes into positions and triangles.
-pub fn parse_stl(bytes: &[u8], source_name: &str) -> Result<(Vec<Point3>, Vec<[usize; 3]>), FormatError> {
+pub fn parse_stl(
+    bytes: &[u8],
+    source_name: &str,
+) -> Result<(Vec<Point3>, Vec<[usize; 3]>), FormatError> {
     let looks_ascii = bytes.trim_ascii_start().starts_with(b"solid")
         && bytes.windows(5).take(1000).any(|w| w == b"facet");
     if !looks_ascii {

@@ -14,15 +14,22 @@ const MAX_FILE_BYTES: u64 = 2 << 30;
 pub fn read_mesh(path: &Path, scale: f64) -> Result<TriangleMesh, FormatError> {
     let name = path.display().to_string();
     if !(scale.is_finite() && scale > 0.0) {
-        return Err(FormatError::new(&name, format!("scale {scale} must be a positive number")));
+        return Err(FormatError::new(
+            &name,
+            format!("scale {scale} must be a positive number"),
+        ));
     }
     let size = std::fs::metadata(path)
         .map_err(|e| FormatError::new(&name, format!("cannot read the file: {e}")))?
         .len();
     if size > MAX_FILE_BYTES {
-        return Err(FormatError::new(&name, format!("{size} bytes is larger than the {MAX_FILE_BYTES}-byte limit")));
+        return Err(FormatError::new(
+            &name,
+            format!("{size} bytes is larger than the {MAX_FILE_BYTES}-byte limit"),
+        ));
     }
-    let bytes = std::fs::read(path).map_err(|e| FormatError::new(&name, format!("cannot read the file: {e}")))?;
+    let bytes = std::fs::read(path)
+        .map_err(|e| FormatError::new(&name, format!("cannot read the file: {e}")))?;
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -54,7 +61,8 @@ pub fn load_object(path: &Path, scale: f64) -> Result<ObjectModel, FormatError> 
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "object".into());
-    ObjectModel::new(&name, mesh, None).map_err(|e| FormatError::new(&path.display().to_string(), e.to_string()))
+    ObjectModel::new(&name, mesh, None)
+        .map_err(|e| FormatError::new(&path.display().to_string(), e.to_string()))
 }
 
 /// Writes a mesh as OBJ text.

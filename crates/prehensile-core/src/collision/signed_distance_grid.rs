@@ -7,13 +7,23 @@
 //! returns [`Decision::Unsure`] so the caller asks the exact path. The fast path therefore never
 //! disagrees with the exact one: its error bound is zero, at the price of an exact query for
 //! capsules within about one grid spacing of touching.
+//!
+//! Building it computes exact distances only for nodes within a band of the surface. Farther
+//! nodes store ±band: a lower bound on the distance outside, an upper bound on the (negative)
+//! distance inside, which is all the bounds above need. Their sign comes from a flood fill: two
+//! neighbouring nodes both farther than the band from the surface (band > spacing) cannot have
+//! the surface between them, so each connected far region has one sign, found by a single exact
+//! query (regions touching the grid's border are outside, as the grid extends past the mesh).
 
+use crate::geometry::closest_point_on_triangle;
 use crate::math::{Point3, Vec3};
 
 use super::TriangleGrid;
 
 /// Most nodes along the longest axis of the grid.
 const MAX_NODES_PER_AXIS: usize = 64;
+/// Nodes nearer the surface than this (metres, or 2.5 spacings if larger) store exact values.
+const BAND_MIN: f64 = 0.02;
 
 /// What the grid alone can say about a capsule.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -33,6 +43,7 @@ pub struct SignedDistanceGrid {
     spacing: f64,
     dims: [usize; 3],
     values: Vec<f32>,
+    band: f32,
     mesh_min: Point3,
     mesh_max: Point3,
 }
@@ -45,12 +56,97 @@ impl SignedDistanceGrid {
         let extent = (hi - lo) + Vec3::repeat(2.0 * margin);
         let spacing = (extent.max() / (MAX_NODES_PER_AXIS - 1) as f64).max(1e-9);
         let dims = [0, 1, 2].map(|i| ((extent[i] / spacing).ceil() as usize + 1).max(2));
-        let mut values = Vec::with_capacity(dims[0] * dims[1] * dims[2]);
-        for z in 0..dims[2] {
-            for y in 0..dims[1] {
-                for x in 0..dims[0] {
-                    let p = origin + Vec3::new(x as f64, y as f64, z as f64) * spacing;
-                    values.push(exact.signed_distance(&p) as f32);
+        let band = (2.5 * spacing).max(BAND_MIN).min(margin.max(2.5 * spacing));
+        let node = |x: usize, y: usize, z: usize| {
+            origin + Vec3::new(x as f64, y as f64, z as f64) * spacing
+        };
+        let count = dims[0] * dims[1] * dims[2];
+        let index = |x: usize, y: usize, z: usize| (z * dims[1] + y) * dims[0] + x;
+        // Each triangle updates the nodes within the band of its bounding box with its distance.
+        let mut nearest = vec![(band * band, u32::MAX); count];
+        let to_node =
+            |v: f64, i: usize| ((v - origin[i]) / spacing).clamp(0.0, (dims[i] - 1) as f64);
+        for t in 0..exact.triangle_count() {
+            let [a, b, c] = exact.triangle(t);
+            let lo = a.inf(b).inf(c) - Vec3::repeat(band);
+            let hi = a.sup(b).sup(c) + Vec3::repeat(band);
+            let first: [usize; 3] = std::array::from_fn(|i| to_node(lo[i], i).ceil() as usize);
+            let last: [usize; 3] = std::array::from_fn(|i| to_node(hi[i], i).floor() as usize);
+            for z in first[2]..=last[2] {
+                for y in first[1]..=last[1] {
+                    for x in first[0]..=last[0] {
+                        let p = node(x, y, z);
+                        let d2 = (closest_point_on_triangle(&p, a, b, c).0 - p).norm_squared();
+                        let slot = &mut nearest[index(x, y, z)];
+                        if d2 <= slot.0 {
+                            *slot = (d2, t as u32);
+                        }
+                    }
+                }
+            }
+        }
+        let mut values: Vec<f32> = (0..count)
+            .map(|i| {
+                let (_, t) = nearest[i];
+                if t == u32::MAX {
+                    return f32::NAN;
+                }
+                let (x, y, z) = (
+                    i % dims[0],
+                    (i / dims[0]) % dims[1],
+                    i / (dims[0] * dims[1]),
+                );
+                exact.signed_distance_to_triangle(&node(x, y, z), t as usize) as f32
+            })
+            .collect();
+        // Flood-fill the far nodes (NaN) region by region.
+        let mut stack = Vec::new();
+        for start in 0..count {
+            if !values[start].is_nan() {
+                continue;
+            }
+            let (sx, sy, sz) = (
+                start % dims[0],
+                (start / dims[0]) % dims[1],
+                start / (dims[0] * dims[1]),
+            );
+            let on_border = |x: usize, y: usize, z: usize| {
+                x == 0
+                    || y == 0
+                    || z == 0
+                    || x + 1 == dims[0]
+                    || y + 1 == dims[1]
+                    || z + 1 == dims[2]
+            };
+            let inside = !on_border(sx, sy, sz) && exact.signed_distance(&node(sx, sy, sz)) < 0.0;
+            let fill = if inside { -band } else { band } as f32;
+            values[start] = fill;
+            stack.push((sx, sy, sz));
+            while let Some((x, y, z)) = stack.pop() {
+                let mut visit = |nx: usize, ny: usize, nz: usize| {
+                    let i = index(nx, ny, nz);
+                    if values[i].is_nan() {
+                        values[i] = fill;
+                        stack.push((nx, ny, nz));
+                    }
+                };
+                if x > 0 {
+                    visit(x - 1, y, z);
+                }
+                if y > 0 {
+                    visit(x, y - 1, z);
+                }
+                if z > 0 {
+                    visit(x, y, z - 1);
+                }
+                if x + 1 < dims[0] {
+                    visit(x + 1, y, z);
+                }
+                if y + 1 < dims[1] {
+                    visit(x, y + 1, z);
+                }
+                if z + 1 < dims[2] {
+                    visit(x, y, z + 1);
                 }
             }
         }
@@ -59,6 +155,7 @@ impl SignedDistanceGrid {
             spacing,
             dims,
             values,
+            band: band as f32,
             mesh_min: lo,
             mesh_max: hi,
         }
@@ -69,8 +166,9 @@ impl SignedDistanceGrid {
         self.spacing
     }
 
-    /// Node whose value bounds `p`, and the distance from `p` to it; `None` outside the grid.
-    fn nearest_node(&self, p: &Point3) -> Option<(f64, f64)> {
+    /// Lower and upper bounds of the signed distance at `p` from its nearest node; `None`
+    /// outside the grid. Far nodes store ±band, which bounds only one side.
+    fn bounds_at(&self, p: &Point3) -> Option<(f64, f64)> {
         let mut idx = [0usize; 3];
         let mut offset = Vec3::zeros();
         for i in 0..3 {
@@ -81,10 +179,17 @@ impl SignedDistanceGrid {
             idx[i] = f as usize;
             offset[i] = p[i] - (self.origin[i] + f * self.spacing);
         }
-        let v = self.values[(idx[2] * self.dims[1] + idx[1]) * self.dims[0] + idx[0]] as f64;
-        // Stored as f32: widen the distance by the rounding error of the value.
-        let rounding = v.abs() * 1e-7 + 1e-9;
-        Some((v, offset.norm() + rounding))
+        let v = self.values[(idx[2] * self.dims[1] + idx[1]) * self.dims[0] + idx[0]];
+        // Stored as f32: widen by the rounding error of the value.
+        let d = offset.norm() + (v.abs() as f64) * 1e-7 + 1e-9;
+        let v64 = v as f64;
+        Some(if v >= self.band {
+            (v64 - d, f64::INFINITY)
+        } else if v <= -self.band {
+            (f64::NEG_INFINITY, v64 + d)
+        } else {
+            (v64 - d, v64 + d)
+        })
     }
 
     /// Lower bound on the distance from the segment's bounding box to the mesh's bounding box.
@@ -92,7 +197,9 @@ impl SignedDistanceGrid {
         let lo = a.inf(b);
         let hi = a.sup(b);
         let gap = Vec3::from_fn(|i, _| {
-            (self.mesh_min[i] - hi[i]).max(lo[i] - self.mesh_max[i]).max(0.0)
+            (self.mesh_min[i] - hi[i])
+                .max(lo[i] - self.mesh_max[i])
+                .max(0.0)
         });
         gap.norm()
     }
@@ -104,11 +211,11 @@ impl SignedDistanceGrid {
         }
         let mid = nalgebra::center(a, b);
         let half = (b - a).norm() * 0.5;
-        if let Some((s, d)) = self.nearest_node(&mid) {
-            if s + d <= radius {
+        if let Some((lower, upper)) = self.bounds_at(&mid) {
+            if upper <= radius {
                 return Decision::Touches;
             }
-            if s - d - half > radius {
+            if lower - half > radius {
                 return Decision::Free;
             }
         }
@@ -118,21 +225,15 @@ impl SignedDistanceGrid {
         let mut all_free = true;
         for k in 0..=pieces {
             let p = a + (b - a) * (k as f64 / pieces as f64);
-            match self.nearest_node(&p) {
-                Some((s, d)) => {
-                    if s + d <= radius {
-                        return Decision::Touches;
-                    }
-                    if s - d - reach <= radius {
-                        all_free = false;
-                    }
-                }
-                None => {
-                    // Outside the grid: only the gap to the mesh's box bounds the distance.
-                    if self.box_gap(&p, &p) - reach <= radius {
-                        all_free = false;
-                    }
-                }
+            // Outside the grid only the gap to the mesh's box bounds the distance.
+            let (lower, upper) = self
+                .bounds_at(&p)
+                .unwrap_or_else(|| (self.box_gap(&p, &p), f64::INFINITY));
+            if upper <= radius {
+                return Decision::Touches;
+            }
+            if lower - reach <= radius {
+                all_free = false;
             }
         }
         if all_free {

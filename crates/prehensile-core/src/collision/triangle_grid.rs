@@ -5,7 +5,9 @@
 
 use std::collections::HashMap;
 
-use crate::geometry::{closest_point_on_triangle, distance_squared_segment_triangle, TriangleFeature};
+use crate::geometry::{
+    closest_point_on_triangle, distance_squared_segment_triangle, TriangleFeature,
+};
 use crate::math::{Point3, Vec3};
 use crate::mesh::TriangleMesh;
 
@@ -53,8 +55,9 @@ impl TriangleGrid {
         for (t, tri) in mesh.triangles.iter().enumerate() {
             for k in 0..3 {
                 let (u, v) = (tri[k], tri[(k + 1) % 3]);
-                *edge_faces.entry((u.min(v), u.max(v))).or_insert_with(Vec3::zeros) +=
-                    face_normals[t];
+                *edge_faces
+                    .entry((u.min(v), u.max(v)))
+                    .or_insert_with(Vec3::zeros) += face_normals[t];
             }
         }
         let edge_normals = mesh
@@ -146,6 +149,12 @@ impl TriangleGrid {
 
     /// Exact signed distance from `p` to the surface: positive outside, negative inside.
     pub fn signed_distance(&self, p: &Point3) -> f64 {
+        self.signed_distance_within(p, f64::INFINITY)
+            .expect("a mesh has triangles, so one is within an infinite distance")
+    }
+
+    /// Exact signed distance from `p` if the surface is within `max` of it, else `None`.
+    pub fn signed_distance_within(&self, p: &Point3, max: f64) -> Option<f64> {
         let c0 = self.cell_of(p);
         let mut best = f64::INFINITY;
         let mut best_t = usize::MAX;
@@ -154,7 +163,7 @@ impl TriangleGrid {
             // Triangles not yet seen lie in cells at least `ring` cells away, so at least
             // (ring - 1) cell widths from p, whether p is inside the grid or clamped onto it.
             let bound = (ring as f64 - 1.0).max(0.0) * self.cell;
-            if best_t != usize::MAX && best.sqrt() <= bound {
+            if best.sqrt() <= bound || bound > max {
                 break;
             }
             for_each_ring_cell(c0, ring, self.dims, |c| {
@@ -169,7 +178,15 @@ impl TriangleGrid {
                 }
             });
         }
-        let t = best_t;
+        if best_t == usize::MAX || best.sqrt() > max {
+            return None;
+        }
+        Some(self.signed_distance_to_triangle(p, best_t))
+    }
+
+    /// Signed distance from `p` to triangle `t`, signed by the pseudo-normal of the feature
+    /// nearest to `p`; equals the mesh's signed distance when `t` is a nearest triangle.
+    pub(crate) fn signed_distance_to_triangle(&self, p: &Point3, t: usize) -> f64 {
         let [a, b, c] = &self.corners[t];
         let (q, feature) = closest_point_on_triangle(p, a, b, c);
         let normal = match feature {
@@ -183,6 +200,11 @@ impl TriangleGrid {
         } else {
             d
         }
+    }
+
+    /// Corners of triangle `t`.
+    pub(crate) fn triangle(&self, t: usize) -> &[Point3; 3] {
+        &self.corners[t]
     }
 
     /// True when some triangle lies within `radius` of segment `a–b` (the capsule touches the

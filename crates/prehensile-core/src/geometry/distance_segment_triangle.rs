@@ -36,8 +36,7 @@ fn segment_pierces_triangle(p: &Point3, q: &Point3, a: &Point3, b: &Point3, c: &
     }
     let t = sp / (sp - sq);
     let x = p + (q - p) * t;
-    let inside_edge =
-        |u: &Point3, v: &Point3| n.dot(&(v - u).cross(&(x - u))) >= 0.0;
+    let inside_edge = |u: &Point3, v: &Point3| n.dot(&(v - u).cross(&(x - u))) >= 0.0;
     inside_edge(a, b) && inside_edge(b, c) && inside_edge(c, a)
 }
 
@@ -49,7 +48,8 @@ mod tests {
     fn piercing_above_and_beside() {
         let p = |x, y, z| Point3::new(x, y, z);
         let (a, b, c) = (p(0.0, 0.0, 0.0), p(1.0, 0.0, 0.0), p(0.0, 1.0, 0.0));
-        let d = distance_squared_segment_triangle(&p(0.2, 0.2, -1.0), &p(0.2, 0.2, 1.0), &a, &b, &c);
+        let d =
+            distance_squared_segment_triangle(&p(0.2, 0.2, -1.0), &p(0.2, 0.2, 1.0), &a, &b, &c);
         assert_eq!(d, 0.0);
         let d = distance_squared_segment_triangle(&p(0.2, 0.2, 0.5), &p(0.2, 0.2, 1.0), &a, &b, &c);
         assert!((d - 0.25).abs() < 1e-12);
@@ -57,7 +57,8 @@ mod tests {
         let d = distance_squared_segment_triangle(&p(1.0, 1.0, 0.0), &p(2.0, 0.0, 0.0), &a, &b, &c);
         assert!((d - 0.5).abs() < 1e-12);
         // Segment passing over an edge without piercing: distance to the edge.
-        let d = distance_squared_segment_triangle(&p(0.5, -1.0, 0.1), &p(0.5, 1.0, 0.1), &a, &b, &c);
+        let d =
+            distance_squared_segment_triangle(&p(0.5, -1.0, 0.1), &p(0.5, 1.0, 0.1), &a, &b, &c);
         assert!(d <= 0.01 + 1e-12);
     }
 }

@@ -118,10 +118,12 @@ impl HandModel {
             match &b.parent {
                 None => roots.push(b.name.clone()),
                 Some(p) => {
-                    let &pi = by_name.get(p.as_str()).ok_or_else(|| HandError::MissingParent {
-                        bone: b.name.clone(),
-                        parent: p.clone(),
-                    })?;
+                    let &pi = by_name
+                        .get(p.as_str())
+                        .ok_or_else(|| HandError::MissingParent {
+                            bone: b.name.clone(),
+                            parent: p.clone(),
+                        })?;
                     parent[i] = Some(pi);
                 }
             }
@@ -198,7 +200,8 @@ impl HandModel {
             let y = y.normalize();
             let x = y.cross(&z);
             let m = nalgebra::Matrix3::from_columns(&[x, y, z]);
-            let rot = Rotation::from_rotation_matrix(&nalgebra::Rotation3::from_matrix_unchecked(m));
+            let rot =
+                Rotation::from_rotation_matrix(&nalgebra::Rotation3::from_matrix_unchecked(m));
             frames.push(Transform::from_parts(origin.coords.into(), rot));
         }
         let mut bones = Vec::with_capacity(n);
@@ -236,7 +239,10 @@ impl HandModel {
             let last = &desc.bones[at];
             let tip_hand = Point3::from(last.tip.expect("leaf tips checked above"));
             let tip = frames[new_index[at]].inverse_transform_point(&tip_hand);
-            let name = desc.bones[c].finger.clone().unwrap_or_else(|| desc.bones[c].name.clone());
+            let name = desc.bones[c]
+                .finger
+                .clone()
+                .unwrap_or_else(|| desc.bones[c].name.clone());
             if fingers.iter().any(|f: &Finger| f.name == name) {
                 return Err(HandError::Invalid(format!(
                     "two fingers are named '{name}'; set a distinct `finger` on their first bones"
@@ -245,7 +251,11 @@ impl HandModel {
             for &bi in &chain {
                 bones[bi].finger = Some(fingers.len());
             }
-            fingers.push(Finger { name, bones: chain, tip });
+            fingers.push(Finger {
+                name,
+                bones: chain,
+                tip,
+            });
         }
         if fingers.len() < 2 {
             return Err(HandError::TooFewFingers(fingers.len()));
@@ -333,7 +343,10 @@ impl HandModel {
         for m in &desc.movements {
             movements.push(GraspMovement::from_description(&model, m)?);
         }
-        if !movements.iter().any(|m: &GraspMovement| m.name() == "close") {
+        if !movements
+            .iter()
+            .any(|m: &GraspMovement| m.name() == "close")
+        {
             movements.push(GraspMovement::generic_close(&model));
         }
         model.movements = movements;
@@ -353,7 +366,9 @@ fn joint_from(j: &JointDescription) -> Joint {
     let r = |l: [f64; 2]| l.map(f64::to_radians);
     match j {
         JointDescription::Fixed => Joint::Fixed,
-        JointDescription::Hinge { flexion } => Joint::Hinge { flexion: r(*flexion) },
+        JointDescription::Hinge { flexion } => Joint::Hinge {
+            flexion: r(*flexion),
+        },
         JointDescription::TwoAxis { flexion, abduction } => Joint::TwoAxis {
             flexion: r(*flexion),
             abduction: r(*abduction),

@@ -54,8 +54,12 @@ impl Joint {
         match self {
             Joint::Fixed => Rotation::identity(),
             Joint::Hinge { .. } => flex(angles[0]),
-            Joint::TwoAxis { .. } => Rotation::from_axis_angle(&Vec3::y_axis(), angles[1]) * flex(angles[0]),
-            Joint::Ball { .. } => Rotation::from_scaled_axis(Vec3::new(angles[0], angles[1], angles[2])),
+            Joint::TwoAxis { .. } => {
+                Rotation::from_axis_angle(&Vec3::y_axis(), angles[1]) * flex(angles[0])
+            }
+            Joint::Ball { .. } => {
+                Rotation::from_scaled_axis(Vec3::new(angles[0], angles[1], angles[2]))
+            }
         }
     }
 }
@@ -211,7 +215,9 @@ impl HandModel {
     pub fn joint_rotations(&self, angles: &[f64], out: &mut [Rotation]) {
         for (i, bone) in self.bones.iter().enumerate() {
             let n = bone.joint.dofs();
-            out[i] = bone.joint.rotation(&angles[bone.first_dof..bone.first_dof + n]);
+            out[i] = bone
+                .joint
+                .rotation(&angles[bone.first_dof..bone.first_dof + n]);
         }
     }
 }

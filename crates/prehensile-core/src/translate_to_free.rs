@@ -1,0 +1,75 @@
+//! Hand positioning (§5.2, §6.5.1, Alg. 3): the hand hangs from a hook frame by its movement's
+//! grasp center and moves only by rotating the hook and by backing the grasp center away from the
+//! object along the hook's y axis until no capsule touches the object.
+
+use crate::collision::Capsule;
+use crate::hand::HandModel;
+use crate::kinematics::forward_kinematics;
+use crate::math::{Transform, Vec3};
+use crate::movement::GraspMovement;
+use crate::object::ObjectModel;
+use crate::workspace::Workspace;
+
+/// Placement of the hand's root for a hook frame, the movement's grasp center and a back-off
+/// distance `offset` (metres along the hook's −y: the palm faces the hook's +y side).
+#[inline]
+pub fn hand_root(hook: &Transform, movement: &GraspMovement, offset: f64) -> Transform {
+    let back = Transform::translation(0.0, -offset, 0.0);
+    let center = Transform::translation_from(-movement.grasp_center().coords);
+    hook * back * center
+}
+
+trait TranslationFrom {
+    fn translation_from(v: Vec3) -> Self;
+}
+
+impl TranslationFrom for Transform {
+    fn translation_from(v: Vec3) -> Self {
+        Transform::translation(v.x, v.y, v.z)
+    }
+}
+
+/// Does any capsule of the hand, in the movement's start pose at `root`, touch the object?
+pub fn start_pose_touches(
+    hand: &HandModel,
+    object: &ObjectModel,
+    movement: &GraspMovement,
+    root: &Transform,
+    ws: &mut Workspace,
+) -> bool {
+    ws.rotations.copy_from_slice(movement.start_rotations());
+    forward_kinematics(hand, root, &ws.rotations, &mut ws.world);
+    hand.capsules().iter().any(|c| {
+        let w = ws.world[c.bone];
+        let capsule = Capsule {
+            a: w * c.a,
+            b: w * c.b,
+            radius: c.radius,
+        };
+        object.capsule_touches(&capsule, &mut ws.counters)
+    })
+}
+
+/// Alg. 3: back the hand off in steps of `step` metres until its start pose is free; returns the
+/// offset, or `None` if it is still touching after `max_offset` metres.
+pub fn translate_to_free(
+    hand: &HandModel,
+    object: &ObjectModel,
+    movement: &GraspMovement,
+    hook: &Transform,
+    step: f64,
+    max_offset: f64,
+    ws: &mut Workspace,
+) -> Option<f64> {
+    let mut offset = 0.0;
+    loop {
+        let root = hand_root(hook, movement, offset);
+        if !start_pose_touches(hand, object, movement, &root, ws) {
+            return Some(offset);
+        }
+        offset += step;
+        if offset > max_offset {
+            return None;
+        }
+    }
+}
