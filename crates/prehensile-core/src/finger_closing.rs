@@ -4,6 +4,8 @@
 //! and its first touching fraction, so the final pose touches within a tolerance instead of
 //! penetrating by up to a whole interpolation step.
 
+use std::ops::Range;
+
 use crate::collision::Capsule;
 use crate::hand::HandModel;
 use crate::math::Transform;
@@ -70,6 +72,7 @@ pub fn close_fingers(
             break;
         }
         let f = i as f64 / n as f64;
+        #[allow(clippy::needless_range_loop)] // `b` indexes several workspace arrays
         for b in 1..bones.len() {
             if ws.stopped[b] {
                 continue;
@@ -80,23 +83,46 @@ pub fn close_fingers(
             if !bone_touches(hand, object, b, ws) {
                 continue;
             }
-            if let Some(tolerance) = params.contact_tolerance {
-                set_fraction(hand, movement, b, previous, ws);
-                if bone_touches(hand, object, b, ws) {
-                    outcome.started_in_collision = true;
-                } else {
-                    refine_contact(hand, object, movement, b, previous, f, tolerance, ws);
+            // The bone and its still-moving predecessors (consecutive indices, parents first)
+            // advanced together this step and stop together now.
+            let mut top = b;
+            while let Some(p) = hand.chain_predecessor(top) {
+                if ws.stopped[p] {
+                    break;
                 }
+                top = p;
             }
-            ws.touching[b] = true;
-            outcome.touching_bones += 1;
-            let mut at = Some(b);
-            while let Some(k) = at {
-                if !ws.stopped[k] {
-                    ws.stopped[k] = true;
-                    moving -= 1;
+            let group = top..b + 1;
+            let finger_end = group.start
+                + hand.bones()[group.start..]
+                    .iter()
+                    .take_while(|x| x.finger == bones[b].finger)
+                    .count();
+            if let Some(tolerance) = params.contact_tolerance {
+                // Bracket the contact between the previous fraction (free: the last step checked
+                // it, and a refinement earlier in this step kept this bone's pose free) and `f`.
+                set_group(hand, movement, group.clone(), previous, finger_end, ws);
+                if !group_touches(hand, object, group.start..finger_end, ws) {
+                    refine_contact(
+                        hand,
+                        object,
+                        movement,
+                        group.clone(),
+                        finger_end,
+                        [previous, f],
+                        tolerance,
+                        ws,
+                    );
+                } else {
+                    outcome.started_in_collision = true;
+                    ws.touching[b] = true;
                 }
-                at = hand.chain_predecessor(k);
+            } else {
+                ws.touching[b] = true;
+            }
+            for k in group {
+                ws.stopped[k] = true;
+                moving -= 1;
             }
         }
     }
@@ -105,6 +131,7 @@ pub fn close_fingers(
             ws.reached[b] = n;
         }
     }
+    outcome.touching_bones = ws.touching.iter().filter(|&&t| t).count() as u32;
     update_world_capsules(hand, ws);
     outcome
 }
@@ -123,6 +150,24 @@ fn set_fraction(hand: &HandModel, movement: &GraspMovement, b: usize, f: f64, ws
     };
 }
 
+/// Moves the bones in `group` (a chain, parents first) to fraction `f`, and the rest of the
+/// finger (`group.end..finger_end`) along with them at their own fractions.
+fn set_group(
+    hand: &HandModel,
+    movement: &GraspMovement,
+    group: Range<usize>,
+    f: f64,
+    finger_end: usize,
+    ws: &mut Workspace,
+) {
+    for k in group.clone() {
+        set_fraction(hand, movement, k, f, ws);
+    }
+    for k in group.end..finger_end {
+        set_fraction(hand, movement, k, ws.fraction[k], ws);
+    }
+}
+
 /// Does any capsule of bone `b` touch the object in the current pose?
 #[inline]
 fn bone_touches(hand: &HandModel, object: &ObjectModel, b: usize, ws: &mut Workspace) -> bool {
@@ -137,58 +182,77 @@ fn bone_touches(hand: &HandModel, object: &ObjectModel, b: usize, ws: &mut Works
     })
 }
 
-/// Bisects bone `b` between a free fraction `lo` and a touching fraction `hi` until its capsules
-/// move less than `tolerance` between the two, and leaves it at the free end.
+/// Does any bone of `group` touch the object?
+fn group_touches(
+    hand: &HandModel,
+    object: &ObjectModel,
+    group: Range<usize>,
+    ws: &mut Workspace,
+) -> bool {
+    group.into_iter().any(|k| bone_touches(hand, object, k, ws))
+}
+
+/// Bisects the chain `group` between a free fraction and a touching one (`bracket`) until no
+/// capsule of the finger from the group down moves more than `tolerance` between the two, and
+/// leaves it at the free end. Motions are rotations about joints, so capsule ends bound every
+/// point; the finger below the group is carried along and must stay free too.
 #[allow(clippy::too_many_arguments)]
 fn refine_contact(
     hand: &HandModel,
     object: &ObjectModel,
     movement: &GraspMovement,
-    b: usize,
-    mut lo: f64,
-    mut hi: f64,
+    group: Range<usize>,
+    finger_end: usize,
+    bracket: [f64; 2],
     tolerance: f64,
     ws: &mut Workspace,
 ) {
+    let [mut lo, mut hi] = bracket;
+    let first = hand.capsule_range(group.start).start;
+    let last = hand.capsule_range(finger_end - 1).end;
     for _ in 0..MAX_REFINE_STEPS {
-        if capsule_travel(hand, movement, b, lo, hi, ws) <= tolerance {
+        // Capsule ends at `lo` into the scratch slots, then the largest move to `hi`.
+        set_group(hand, movement, group.clone(), lo, finger_end, ws);
+        for k in first..last {
+            let c = &hand.capsules()[k];
+            let w = ws.world[c.bone];
+            ws.capsules[k] = Capsule {
+                a: w * c.a,
+                b: w * c.b,
+                radius: c.radius,
+            };
+        }
+        set_group(hand, movement, group.clone(), hi, finger_end, ws);
+        let travel = (first..last)
+            .map(|k| {
+                let c = &hand.capsules()[k];
+                let w = ws.world[c.bone];
+                let s = &ws.capsules[k];
+                (w * c.a - s.a).norm().max((w * c.b - s.b).norm())
+            })
+            .fold(0.0, f64::max);
+        if travel <= tolerance {
             break;
         }
         let mid = 0.5 * (lo + hi);
-        set_fraction(hand, movement, b, mid, ws);
-        if bone_touches(hand, object, b, ws) {
+        if hi - lo <= f64::EPSILON {
+            break;
+        }
+        set_group(hand, movement, group.clone(), mid, finger_end, ws);
+        if group_touches(hand, object, group.start..finger_end, ws) {
             hi = mid;
         } else {
             lo = mid;
         }
     }
-    set_fraction(hand, movement, b, lo, ws);
-}
-
-/// Largest distance any capsule end of bone `b` moves between fractions `lo` and `hi` (a bound on
-/// every point of the capsule, since the motion is a rotation about the joint).
-fn capsule_travel(
-    hand: &HandModel,
-    movement: &GraspMovement,
-    b: usize,
-    lo: f64,
-    hi: f64,
-    ws: &Workspace,
-) -> f64 {
-    let bone = &hand.bones()[b];
-    let parent = bone.parent.map_or(Transform::identity(), |p| ws.world[p]);
-    let at = |f: f64| {
-        parent * bone.rest * Transform::from_parts(Default::default(), movement.rotation_at(b, f))
-    };
-    let (w0, w1) = (at(lo), at(hi));
-    hand.bone_capsules(b)
-        .iter()
-        .map(|c| {
-            ((w0 * c.a) - (w1 * c.a))
-                .norm()
-                .max(((w0 * c.b) - (w1 * c.b)).norm())
-        })
-        .fold(0.0, f64::max)
+    // The bones touching at the touching end are the contacts, within `tolerance` at `lo`.
+    set_group(hand, movement, group.clone(), hi, finger_end, ws);
+    for k in group.start..finger_end {
+        if bone_touches(hand, object, k, ws) {
+            ws.touching[k] = true;
+        }
+    }
+    set_group(hand, movement, group, lo, finger_end, ws);
 }
 
 /// Writes every capsule's world position into `ws.capsules`.

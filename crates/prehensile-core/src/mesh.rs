@@ -54,7 +54,7 @@ pub enum MeshError {
     },
     /// The mesh fails a topology or geometry check; the report says which.
     #[error("{0}")]
-    Defective(MeshReport),
+    Defective(Box<MeshReport>),
 }
 
 /// The result of checking a welded mesh. A mesh is usable as a graspable object only when

@@ -53,7 +53,7 @@ impl ObjectModel {
             return Err(ObjectError::AbsurdSize { size });
         }
         if !report.defects.is_empty() {
-            return Err(MeshError::Defective(report).into());
+            return Err(MeshError::Defective(Box::new(report)).into());
         }
         let (_, center_of_mass) = mesh.volume_and_centroid();
         let hooks = hooks.unwrap_or_else(|| vec![center_of_mass]);

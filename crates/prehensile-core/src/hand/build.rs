@@ -147,8 +147,8 @@ impl HandModel {
         let root = by_name[roots[0].as_str()];
         // Parents-first order by depth-first traversal from the root.
         let mut children: Vec<Vec<usize>> = vec![Vec::new(); n];
-        for i in 0..n {
-            if let Some(p) = parent[i] {
+        for (i, p) in parent.iter().enumerate() {
+            if let Some(p) = *p {
                 children[p].push(i);
             }
         }

@@ -94,7 +94,8 @@ pub struct BoneCapsule {
     pub radius: f64,
 }
 
-/// A finger: a chain of bones from a child of the root to a fingertip.
+/// A finger: a chain of bones from a child of the root to a fingertip. A finger's bones have
+/// consecutive indices, parents first.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Finger {
     /// Name (e.g. `thumb`, `index`).
@@ -194,7 +195,12 @@ impl HandModel {
 
     /// The capsules attached to `bone`.
     pub fn bone_capsules(&self, bone: usize) -> &[BoneCapsule] {
-        &self.capsules[self.capsule_ranges[bone].clone()]
+        &self.capsules[self.capsule_range(bone)]
+    }
+
+    /// Indices into [`HandModel::capsules`] of the capsules attached to `bone`.
+    pub fn capsule_range(&self, bone: usize) -> std::ops::Range<usize> {
+        self.capsule_ranges[bone].clone()
     }
 
     /// Joint angles with limits applied and coupling rules enforced.

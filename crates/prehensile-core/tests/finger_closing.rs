@@ -1,0 +1,158 @@
+//! Finger closing (§5.4, Alg. 1–2) with and without contact refinement.
+
+mod common;
+
+use prehensile_core::finger_closing::{close_fingers, ClosingParams};
+use prehensile_core::math::Transform;
+use prehensile_core::{ObjectModel, Workspace};
+
+/// Signed gap between a world capsule and the object surface (negative = penetrating).
+fn gap(object: &ObjectModel, c: &prehensile_core::Capsule) -> f64 {
+    let exact = object.collider().exact();
+    let d = exact.segment_distance(&c.a, &c.b);
+    if d == 0.0 || exact.signed_distance(&c.a) < 0.0 {
+        -c.radius
+    } else {
+        d - c.radius
+    }
+}
+
+#[test]
+fn power_grasp_on_sphere_touches_without_penetrating() {
+    let hand = common::hand("human");
+    let object = common::object("sphere");
+    let mut ws = Workspace::new(&hand);
+    let root = common::free_root(&hand, &object, "power", &mut ws);
+    let params = ClosingParams::default();
+    let out = close_fingers(
+        &hand,
+        &object,
+        hand.movement("power").unwrap(),
+        &root,
+        &params,
+        &mut ws,
+    );
+    assert!(!out.started_in_collision);
+    assert!(out.touching_bones >= 3, "{out:?}");
+    for (k, c) in ws.capsules.iter().enumerate() {
+        let g = gap(&object, c);
+        assert!(g > -1e-9, "capsule {k} penetrates by {g}");
+        let bone = hand.capsules()[k].bone;
+        if ws.touching[bone] {
+            assert!(g <= 0.0005 + 1e-9, "touching bone {bone} is {g} m away");
+        }
+    }
+    // Fingers touching: at least three distinct fingers.
+    let mut fingers: Vec<usize> = (0..hand.bones().len())
+        .filter(|&b| ws.touching[b])
+        .filter_map(|b| hand.bones()[b].finger)
+        .collect();
+    fingers.dedup();
+    fingers.sort();
+    fingers.dedup();
+    assert!(fingers.len() >= 3, "fingers touching: {fingers:?}");
+}
+
+#[test]
+fn thesis_mode_penetrates_by_up_to_a_step_and_refinement_removes_it() {
+    let hand = common::hand("human");
+    let object = common::object("cylinder");
+    let mut ws = Workspace::new(&hand);
+    let root = common::free_root(&hand, &object, "power", &mut ws);
+    let movement = hand.movement("power").unwrap();
+    let thesis = ClosingParams {
+        interpolations: 10,
+        contact_tolerance: None,
+    };
+    close_fingers(&hand, &object, movement, &root, &thesis, &mut ws);
+    let worst_thesis = ws
+        .capsules
+        .iter()
+        .map(|c| gap(&object, c))
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        worst_thesis < 0.0,
+        "with N = 10 the thesis's closing should penetrate"
+    );
+    let refined = ClosingParams {
+        interpolations: 10,
+        contact_tolerance: Some(0.0005),
+    };
+    close_fingers(&hand, &object, movement, &root, &refined, &mut ws);
+    let worst = ws
+        .capsules
+        .iter()
+        .map(|c| gap(&object, c))
+        .fold(f64::INFINITY, f64::min);
+    assert!(worst > -1e-9, "refined closing penetrates by {worst}");
+}
+
+#[test]
+fn far_from_the_object_every_bone_reaches_the_end() {
+    let hand = common::hand("robot3");
+    let object = common::object("box");
+    let mut ws = Workspace::new(&hand);
+    let root = Transform::translation(1.0, 0.0, 0.0);
+    let params = ClosingParams::default();
+    let out = close_fingers(
+        &hand,
+        &object,
+        hand.movement("close").unwrap(),
+        &root,
+        &params,
+        &mut ws,
+    );
+    assert_eq!(out.touching_bones, 0);
+    for b in 1..hand.bones().len() {
+        assert_eq!(ws.reached[b], params.interpolations);
+        assert_eq!(ws.fraction[b], 1.0);
+    }
+}
+
+#[test]
+fn a_touching_bone_stops_its_predecessors() {
+    for hand_name in ["human", "robot3", "cartoon4"] {
+        let hand = common::hand(hand_name);
+        for object_name in ["sphere", "box", "mug"] {
+            let object = common::object(object_name);
+            let mut ws = Workspace::new(&hand);
+            let root = common::free_root(&hand, &object, "close", &mut ws);
+            close_fingers(
+                &hand,
+                &object,
+                hand.movement("close").unwrap(),
+                &root,
+                &ClosingParams::default(),
+                &mut ws,
+            );
+            for b in 1..hand.bones().len() {
+                if !ws.touching[b] {
+                    continue;
+                }
+                let mut at = hand.chain_predecessor(b);
+                while let Some(p) = at {
+                    assert!(
+                        ws.reached[p] <= ws.reached[b],
+                        "{hand_name}/{object_name}: predecessor {} moved on after {} touched",
+                        hand.bones()[p].name,
+                        hand.bones()[b].name
+                    );
+                    at = hand.chain_predecessor(p);
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn closing_is_deterministic() {
+    let hand = common::hand("human");
+    let object = common::object("torus");
+    let mut ws = Workspace::new(&hand);
+    let root = common::free_root(&hand, &object, "power", &mut ws);
+    let m = hand.movement("power").unwrap();
+    close_fingers(&hand, &object, m, &root, &ClosingParams::default(), &mut ws);
+    let first = ws.capsules.clone();
+    close_fingers(&hand, &object, m, &root, &ClosingParams::default(), &mut ws);
+    assert_eq!(first, ws.capsules);
+}
