@@ -24,8 +24,8 @@ pub mod math;
 pub mod mesh;
 pub mod movement;
 pub mod object;
+pub mod search;
 pub mod shapes;
-pub mod translate_to_free;
 pub mod workspace;
 
 pub use collision::{Capsule, CollisionCounters};

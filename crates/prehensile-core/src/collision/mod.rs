@@ -1,14 +1,14 @@
 //! Capsule–object collision (§6.4.1): "does this capsule touch the surface or lie inside?"
 //!
-//! Two paths: [`TriangleGrid::capsule_touches`] is exact; [`MeshCollider::capsule_touches`] first
+//! Two paths: [`TriangleBvh::capsule_touches`] is exact; [`MeshCollider::capsule_touches`] first
 //! asks a [`SignedDistanceGrid`] and falls back to the exact path only when the grid's bounds do
 //! not decide, so both always give the same answer.
 
 mod signed_distance_grid;
-mod triangle_grid;
+mod triangle_bvh;
 
 pub use signed_distance_grid::{Decision, SignedDistanceGrid};
-pub use triangle_grid::TriangleGrid;
+pub use triangle_bvh::TriangleBvh;
 
 use crate::math::Point3;
 use crate::mesh::TriangleMesh;
@@ -36,7 +36,7 @@ pub struct CollisionCounters {
 /// Both collision paths for one object.
 #[derive(Debug, Clone)]
 pub struct MeshCollider {
-    exact: TriangleGrid,
+    exact: TriangleBvh,
     fast: SignedDistanceGrid,
 }
 
@@ -44,14 +44,14 @@ impl MeshCollider {
     /// Builds both paths for a mesh that passed its checks. The distance grid extends `margin`
     /// metres beyond the mesh's bounds.
     pub fn new(mesh: &TriangleMesh, margin: f64) -> Self {
-        let exact = TriangleGrid::new(mesh);
+        let exact = TriangleBvh::new(mesh);
         let (lo, hi) = mesh.bounds();
         let fast = SignedDistanceGrid::new(&exact, lo, hi, margin);
         Self { exact, fast }
     }
 
     /// The exact path.
-    pub fn exact(&self) -> &TriangleGrid {
+    pub fn exact(&self) -> &TriangleBvh {
         &self.exact
     }
 

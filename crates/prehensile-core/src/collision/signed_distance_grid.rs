@@ -18,7 +18,7 @@
 use crate::geometry::closest_point_on_triangle;
 use crate::math::{Point3, Vec3};
 
-use super::TriangleGrid;
+use super::TriangleBvh;
 
 /// Most nodes along the longest axis of the grid.
 const MAX_NODES_PER_AXIS: usize = 64;
@@ -51,7 +51,7 @@ pub struct SignedDistanceGrid {
 impl SignedDistanceGrid {
     /// Samples the exact signed distance of `exact` on a grid around bounds `(lo, hi)` padded by
     /// `margin` metres.
-    pub fn new(exact: &TriangleGrid, lo: Point3, hi: Point3, margin: f64) -> Self {
+    pub fn new(exact: &TriangleBvh, lo: Point3, hi: Point3, margin: f64) -> Self {
         let origin = lo - Vec3::repeat(margin);
         let extent = (hi - lo) + Vec3::repeat(2.0 * margin);
         let spacing = (extent.max() / (MAX_NODES_PER_AXIS - 1) as f64).max(1e-9);

@@ -2,8 +2,8 @@
 #![allow(dead_code)]
 
 use prehensile_core::math::{Point3, Transform};
+use prehensile_core::search::translate_to_free::{hand_root, translate_to_free, TranslateMode};
 use prehensile_core::shapes::builtin_object;
-use prehensile_core::translate_to_free::{hand_root, translate_to_free};
 use prehensile_core::{HandModel, ObjectModel, TriangleMesh, Workspace};
 
 /// Path of a file in the repository.
@@ -45,6 +45,15 @@ pub fn free_root(
         object.center_of_mass().y,
         object.center_of_mass().z,
     );
-    let offset = translate_to_free(hand, object, m, &hook, 0.001, 0.3, ws).unwrap();
+    let offset = translate_to_free(
+        hand,
+        object,
+        m,
+        &hook,
+        TranslateMode::Steps { step: 0.001 },
+        0.3,
+        ws,
+    )
+    .unwrap();
     hand_root(&hook, m, offset)
 }

@@ -50,26 +50,74 @@ pub fn start_pose_touches(
     })
 }
 
-/// Alg. 3: back the hand off in steps of `step` metres until its start pose is free; returns the
-/// offset, or `None` if it is still touching after `max_offset` metres.
+/// How TranslateToFree advances.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum TranslateMode {
+    /// The thesis's Alg. 3: fixed steps of `step` metres until free.
+    Steps {
+        /// Step length, metres.
+        step: f64,
+    },
+    /// Steps of `coarse` metres until free, then bisection back toward the object until the free
+    /// and the touching offsets are less than `precision` apart. Finds the first free offset to
+    /// within `precision`, unless a free gap thinner than `coarse` is stepped over.
+    Bisection {
+        /// Coarse step, metres.
+        coarse: f64,
+        /// Final precision, metres.
+        precision: f64,
+    },
+}
+
+impl Default for TranslateMode {
+    fn default() -> Self {
+        TranslateMode::Bisection {
+            coarse: 0.004,
+            precision: 0.00025,
+        }
+    }
+}
+
+/// Alg. 3: back the hand off until its start pose is free; returns the offset, or `None` if it is
+/// still touching after `max_offset` metres.
 pub fn translate_to_free(
     hand: &HandModel,
     object: &ObjectModel,
     movement: &GraspMovement,
     hook: &Transform,
-    step: f64,
+    mode: TranslateMode,
     max_offset: f64,
     ws: &mut Workspace,
 ) -> Option<f64> {
-    let mut offset = 0.0;
-    loop {
+    let touches = |offset: f64, ws: &mut Workspace| {
         let root = hand_root(hook, movement, offset);
-        if !start_pose_touches(hand, object, movement, &root, ws) {
-            return Some(offset);
-        }
+        start_pose_touches(hand, object, movement, &root, ws)
+    };
+    let step = match mode {
+        TranslateMode::Steps { step } => step,
+        TranslateMode::Bisection { coarse, .. } => coarse,
+    };
+    let mut offset = 0.0;
+    while touches(offset, ws) {
         offset += step;
         if offset > max_offset {
             return None;
         }
     }
+    if let TranslateMode::Bisection { precision, .. } = mode {
+        if offset > 0.0 {
+            let (mut lo, mut hi) = (offset - step, offset);
+            while hi - lo > precision {
+                let mid = 0.5 * (lo + hi);
+                if touches(mid, ws) {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            offset = hi;
+        }
+    }
+    Some(offset)
 }

@@ -1,0 +1,326 @@
+//! Exact queries against a closed triangle mesh, accelerated by a bounding-volume hierarchy.
+//!
+//! Signs come from angle-weighted pseudo-normals (Bærentzen & Aanæs 2005), which are exact for a
+//! closed, manifold, consistently wound mesh — the only kind an [`crate::ObjectModel`] accepts.
+//! Written by hand rather than with parry3d's BVH so that the leaf tests are our checked kernels
+//! and the traversal uses a fixed stack: queries take `&self` and never allocate.
+
+use std::collections::HashMap;
+
+use crate::geometry::{
+    closest_point_on_triangle, distance_squared_segment_triangle, TriangleFeature,
+};
+use crate::math::{Point3, Vec3};
+use crate::mesh::TriangleMesh;
+
+/// Triangles per leaf at most.
+const LEAF_SIZE: usize = 4;
+/// Traversal stack depth; a median-split tree over 20 million triangles is about 24 deep.
+const STACK: usize = 64;
+
+#[derive(Debug, Clone, Copy)]
+struct Node {
+    min: Point3,
+    max: Point3,
+    /// Leaf: first index into `order`; inner node: index of the left child (right = left + 1).
+    first: u32,
+    /// Triangles in a leaf, 0 for an inner node.
+    count: u32,
+}
+
+/// A bounding-volume hierarchy over a mesh's triangles with the pseudo-normals needed for signed
+/// distances.
+#[derive(Debug, Clone)]
+pub struct TriangleBvh {
+    corners: Vec<[Point3; 3]>,
+    /// Bounding sphere (centre, radius) of each triangle, to skip exact tests cheaply.
+    spheres: Vec<(Point3, f64)>,
+    face_normals: Vec<Vec3>,
+    edge_normals: Vec<[Vec3; 3]>,
+    vertex_normals: Vec<[Vec3; 3]>,
+    nodes: Vec<Node>,
+    order: Vec<u32>,
+}
+
+impl TriangleBvh {
+    /// Builds the grid for a mesh that has passed [`TriangleMesh::report`] without defects.
+    pub fn new(mesh: &TriangleMesh) -> Self {
+        let n = mesh.triangles.len();
+        let corners: Vec<[Point3; 3]> = (0..n).map(|t| mesh.corners(t)).collect();
+        let face_normals: Vec<Vec3> = corners
+            .iter()
+            .map(|[a, b, c]| (b - a).cross(&(c - a)).normalize())
+            .collect();
+        // Angle-weighted vertex pseudo-normals.
+        let mut vertex_acc = vec![Vec3::zeros(); mesh.vertices.len()];
+        for (t, tri) in mesh.triangles.iter().enumerate() {
+            let p = &corners[t];
+            for k in 0..3 {
+                let e1 = (p[(k + 1) % 3] - p[k]).normalize();
+                let e2 = (p[(k + 2) % 3] - p[k]).normalize();
+                let angle = e1.dot(&e2).clamp(-1.0, 1.0).acos();
+                vertex_acc[tri[k] as usize] += face_normals[t] * angle;
+            }
+        }
+        let vertex_normals = mesh
+            .triangles
+            .iter()
+            .map(|tri| tri.map(|i| vertex_acc[i as usize].normalize()))
+            .collect();
+        // Edge pseudo-normals: sum of the two adjacent face normals.
+        let mut edge_faces: HashMap<(u32, u32), Vec3> = HashMap::with_capacity(n * 3 / 2);
+        for (t, tri) in mesh.triangles.iter().enumerate() {
+            for k in 0..3 {
+                let (u, v) = (tri[k], tri[(k + 1) % 3]);
+                *edge_faces
+                    .entry((u.min(v), u.max(v)))
+                    .or_insert_with(Vec3::zeros) += face_normals[t];
+            }
+        }
+        let edge_normals = mesh
+            .triangles
+            .iter()
+            .map(|tri| {
+                std::array::from_fn(|k| {
+                    let (u, v) = (tri[k], tri[(k + 1) % 3]);
+                    edge_faces[&(u.min(v), u.max(v))].normalize()
+                })
+            })
+            .collect();
+
+        let spheres = corners
+            .iter()
+            .map(|[a, b, c]| {
+                let centre = Point3::from((a.coords + b.coords + c.coords) / 3.0);
+                let radius = (a - centre)
+                    .norm()
+                    .max((b - centre).norm())
+                    .max((c - centre).norm());
+                (centre, radius)
+            })
+            .collect();
+        let mut bvh = Self {
+            corners,
+            spheres,
+            face_normals,
+            edge_normals,
+            vertex_normals,
+            nodes: Vec::with_capacity(2 * n / LEAF_SIZE + 1),
+            order: (0..n as u32).collect(),
+        };
+        bvh.nodes.push(Node {
+            min: Point3::origin(),
+            max: Point3::origin(),
+            first: 0,
+            count: 0,
+        });
+        bvh.build(0, 0, n);
+        bvh
+    }
+
+    /// Builds node `index` over `order[start..end]`, splitting at the median of the longest axis.
+    fn build(&mut self, index: usize, start: usize, end: usize) {
+        let (mut lo, mut hi) = (
+            Point3::from(Vec3::repeat(f64::INFINITY)),
+            Point3::from(Vec3::repeat(f64::NEG_INFINITY)),
+        );
+        for &t in &self.order[start..end] {
+            for p in &self.corners[t as usize] {
+                lo = lo.inf(p);
+                hi = hi.sup(p);
+            }
+        }
+        self.nodes[index].min = lo;
+        self.nodes[index].max = hi;
+        if end - start <= LEAF_SIZE {
+            self.nodes[index].first = start as u32;
+            self.nodes[index].count = (end - start) as u32;
+            return;
+        }
+        let axis = (hi - lo).imax();
+        let mid = (start + end) / 2;
+        let spheres = &self.spheres;
+        self.order[start..end].select_nth_unstable_by(mid - start, |&x, &y| {
+            spheres[x as usize].0[axis].total_cmp(&spheres[y as usize].0[axis])
+        });
+        let left = self.nodes.len();
+        let blank = self.nodes[index];
+        self.nodes.push(blank);
+        self.nodes.push(blank);
+        self.nodes[index].first = left as u32;
+        self.nodes[index].count = 0;
+        self.build(left, start, mid);
+        self.build(left + 1, mid, end);
+    }
+
+    /// Number of triangles.
+    pub fn triangle_count(&self) -> usize {
+        self.corners.len()
+    }
+
+    /// Exact signed distance from `p` to the surface: positive outside, negative inside.
+    pub fn signed_distance(&self, p: &Point3) -> f64 {
+        self.signed_distance_within(p, f64::INFINITY)
+            .expect("a mesh has triangles, so one is within an infinite distance")
+    }
+
+    /// Exact signed distance from `p` if the surface is within `max` of it, else `None`.
+    pub fn signed_distance_within(&self, p: &Point3, max: f64) -> Option<f64> {
+        let mut best = if max.is_finite() {
+            max * max
+        } else {
+            f64::INFINITY
+        };
+        let mut best_t = usize::MAX;
+        let mut stack = [0u32; STACK];
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let node = self.nodes[stack[top] as usize];
+            if box_distance_squared(&node, p) > best {
+                continue;
+            }
+            if node.count > 0 {
+                for &t in &self.order[node.first as usize..(node.first + node.count) as usize] {
+                    let [a, b, c] = &self.corners[t as usize];
+                    let d = (closest_point_on_triangle(p, a, b, c).0 - p).norm_squared();
+                    if d <= best {
+                        best = d;
+                        best_t = t as usize;
+                    }
+                }
+            } else {
+                // Visit the nearer child first: push it last.
+                let (l, r) = (node.first, node.first + 1);
+                let (dl, dr) = (
+                    box_distance_squared(&self.nodes[l as usize], p),
+                    box_distance_squared(&self.nodes[r as usize], p),
+                );
+                let (near, far) = if dl <= dr { (l, r) } else { (r, l) };
+                stack[top] = far;
+                stack[top + 1] = near;
+                top += 2;
+            }
+        }
+        if best_t == usize::MAX {
+            return None;
+        }
+        Some(self.signed_distance_to_triangle(p, best_t))
+    }
+
+    /// Signed distance from `p` to triangle `t`, signed by the pseudo-normal of the feature
+    /// nearest to `p`; equals the mesh's signed distance when `t` is a nearest triangle.
+    pub(crate) fn signed_distance_to_triangle(&self, p: &Point3, t: usize) -> f64 {
+        let [a, b, c] = &self.corners[t];
+        let (q, feature) = closest_point_on_triangle(p, a, b, c);
+        let normal = match feature {
+            TriangleFeature::Face => self.face_normals[t],
+            TriangleFeature::Edge(k) => self.edge_normals[t][k as usize],
+            TriangleFeature::Vertex(k) => self.vertex_normals[t][k as usize],
+        };
+        let d = (q - p).norm();
+        if (p - q).dot(&normal) < 0.0 {
+            -d
+        } else {
+            d
+        }
+    }
+
+    /// Corners of triangle `t`.
+    pub(crate) fn triangle(&self, t: usize) -> &[Point3; 3] {
+        &self.corners[t]
+    }
+
+    /// True when some triangle lies within `radius` of segment `a–b` (the capsule touches the
+    /// surface). Does not detect a capsule wholly inside; see [`TriangleBvh::capsule_touches`].
+    pub fn segment_within(&self, a: &Point3, b: &Point3, radius: f64) -> bool {
+        let r2 = radius * radius;
+        let mut stack = [0u32; STACK];
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let node = self.nodes[stack[top] as usize];
+            if !segment_meets_box(a, b, &node.min, &node.max, radius) {
+                continue;
+            }
+            if node.count > 0 {
+                for &t in &self.order[node.first as usize..(node.first + node.count) as usize] {
+                    let (centre, reach) = self.spheres[t as usize];
+                    let near = radius + reach;
+                    if distance_squared_point_segment(&centre, a, b) > near * near {
+                        continue;
+                    }
+                    let [p, q, s] = &self.corners[t as usize];
+                    if distance_squared_segment_triangle(a, b, p, q, s) <= r2 {
+                        return true;
+                    }
+                }
+            } else {
+                stack[top] = node.first;
+                stack[top + 1] = node.first + 1;
+                top += 2;
+            }
+        }
+        false
+    }
+
+    /// Exact distance from segment `a–b` to the surface (zero if it crosses the surface).
+    pub fn segment_distance(&self, a: &Point3, b: &Point3) -> f64 {
+        (0..self.corners.len())
+            .map(|t| {
+                let [p, q, s] = &self.corners[t];
+                distance_squared_segment_triangle(a, b, p, q, s)
+            })
+            .fold(f64::INFINITY, f64::min)
+            .sqrt()
+    }
+
+    /// Exact test: does the capsule touch the surface or lie inside the object?
+    pub fn capsule_touches(&self, a: &Point3, b: &Point3, radius: f64) -> bool {
+        self.segment_within(a, b, radius) || self.signed_distance(a) < 0.0
+    }
+}
+
+fn distance_squared_point_segment(p: &Point3, a: &Point3, b: &Point3) -> f64 {
+    let ab = b - a;
+    let len2 = ab.norm_squared();
+    let t = if len2 > 0.0 {
+        ((p - a).dot(&ab) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (a + ab * t - p).norm_squared()
+}
+
+/// Squared distance from `p` to a node's box.
+fn box_distance_squared(node: &Node, p: &Point3) -> f64 {
+    let d = Vec3::from_fn(|i, _| (node.min[i] - p[i]).max(p[i] - node.max[i]).max(0.0));
+    d.norm_squared()
+}
+
+/// Does segment `a–b` meet the box grown by `r` on every side? (slab test; a superset of "the
+/// capsule meets the box", which is all the traversal needs)
+fn segment_meets_box(a: &Point3, b: &Point3, min: &Point3, max: &Point3, r: f64) -> bool {
+    let d = b - a;
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for i in 0..3 {
+        let (lo, hi) = (min[i] - r, max[i] + r);
+        if d[i].abs() < 1e-300 {
+            if a[i] < lo || a[i] > hi {
+                return false;
+            }
+        } else {
+            let inv = 1.0 / d[i];
+            let (mut ta, mut tb) = ((lo - a[i]) * inv, (hi - a[i]) * inv);
+            if ta > tb {
+                std::mem::swap(&mut ta, &mut tb);
+            }
+            t0 = t0.max(ta);
+            t1 = t1.min(tb);
+            if t0 > t1 {
+                return false;
+            }
+        }
+    }
+    true
+}

@@ -1,0 +1,16 @@
+//! The pose search (thesis ch. 5–6): hand positioning around a hook, quality, the optimization
+//! steps with random angles, the initial approximation and an anytime planner.
+
+pub mod initial_approximation;
+pub mod optimization_step;
+pub mod planner;
+pub mod quality;
+pub mod random;
+pub mod start_position;
+pub mod translate_to_free;
+pub mod wrist_range;
+
+pub use planner::{GraspPlanner, PlannerStatus, SearchError, SearchParams, StopRule};
+pub use quality::{Evaluation, Invalid, QualityTerms, QualityWeights};
+pub use translate_to_free::TranslateMode;
+pub use wrist_range::WristRange;

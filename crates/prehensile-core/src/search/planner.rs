@@ -1,0 +1,547 @@
+//! The anytime planner (§5.1, §5.6, §6.5.6): advance one step or for a time budget, resume later,
+//! always hold the best valid pose so far, and restart when the character turns.
+
+use std::time::{Duration, Instant};
+
+use crate::finger_closing::ClosingParams;
+use crate::hand::HandModel;
+use crate::math::{Point3, Rotation, Vec3};
+use crate::movement::GraspMovement;
+use crate::object::ObjectModel;
+use crate::workspace::Workspace;
+
+use super::initial_approximation::initial_approximation;
+use super::optimization_step::{step_candidates, StepKind};
+use super::quality::{Evaluation, EvaluationContext, QualityWeights};
+use super::random::SplitMix64;
+use super::start_position::{nearest_hook, start_rotation};
+use super::translate_to_free::TranslateMode;
+use super::wrist_range::WristRange;
+
+/// When the planner considers itself converged.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum StopRule {
+    /// No better pose for this many consecutive steps.
+    NoImprovement {
+        /// Steps without improvement.
+        steps: u32,
+    },
+    /// The thesis's rule (§5.6): stop at the first step whose best pose is the current one.
+    ThesisLocalMaximum,
+}
+
+/// Everything the search can be told.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct SearchParams {
+    /// Seven-pose or unidirectional step.
+    pub step: StepKind,
+    /// When to stop.
+    pub stop: StopRule,
+    /// Seed of the random angles (§5.6.2.2).
+    pub seed: u64,
+    /// Largest random angle, radians (the thesis: 180°).
+    pub max_angle: f64,
+    /// Finger closing.
+    #[serde(skip)]
+    pub closing: ClosingParams,
+    /// TranslateToFree mode.
+    pub translate: TranslateMode,
+    /// Quality weights; `None` picks Eq. 5.1 or 5.2 by movement.
+    pub weights: Option<QualityWeights>,
+    /// Wrist range (§6.5.4).
+    pub wrist_range: WristRange,
+    /// Start from the initial approximation (§5.6.2.1) rather than the starting position.
+    pub initial_approximation: bool,
+    /// Restart when the direction from hook to shoulder turns by more than this, radians.
+    pub restart_angle: f64,
+    /// The world's up direction (the hand approaches from above).
+    pub up: Vec3,
+    /// Most steps before giving up on convergence.
+    pub max_steps: u32,
+    /// Fingers that must touch for a movement without named contact fingers.
+    pub min_fingers: usize,
+    /// Threads evaluating a step's candidates, each with its own workspace.
+    pub threads: usize,
+}
+
+impl Default for SearchParams {
+    fn default() -> Self {
+        Self {
+            step: StepKind::SevenPose,
+            stop: StopRule::NoImprovement { steps: 12 },
+            seed: 1,
+            max_angle: std::f64::consts::PI,
+            closing: ClosingParams::default(),
+            translate: TranslateMode::default(),
+            weights: None,
+            wrist_range: WristRange::default(),
+            initial_approximation: true,
+            restart_angle: 10f64.to_radians(),
+            up: Vec3::z(),
+            max_steps: 500,
+            min_fingers: 3,
+            threads: 1,
+        }
+    }
+}
+
+/// Why a search cannot start.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum SearchError {
+    /// The object has no hooks.
+    #[error("the object has no hooks")]
+    NoHooks,
+    /// The shoulder coincides with the hook.
+    #[error("the shoulder is on the hook ({0:?}); put the character somewhere else")]
+    ShoulderOnHook([f64; 3]),
+    /// The hook is far outside the object.
+    #[error("the hook is {distance:.3} m outside the object, farther than the hand reaches ({reach:.3} m); put the hook in or on the object")]
+    HookOutside {
+        /// Distance from the hook to the surface, metres.
+        distance: f64,
+        /// The hand's reach, metres.
+        reach: f64,
+    },
+    /// No part of the object is small enough for the hand (§3.2).
+    #[error("the object is at least {width:.3} m wide in every direction, more than twice the hand's mean finger length ({finger:.3} m); it cannot be grasped with one hand (§3.2). Is its scale right?")]
+    TooBig {
+        /// Smallest width found, metres.
+        width: f64,
+        /// Mean finger length, metres.
+        finger: f64,
+    },
+    /// A parameter is NaN, negative or otherwise unusable.
+    #[error("invalid parameter: {0}")]
+    BadParameter(String),
+}
+
+/// Whether the planner has more to do.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PlannerStatus {
+    /// More steps may improve the pose.
+    Searching,
+    /// The stop rule holds.
+    Converged,
+    /// `max_steps` reached without convergence.
+    StepLimit,
+}
+
+/// Counts and time spent.
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
+pub struct SearchStats {
+    /// Optimization steps taken.
+    pub steps: u32,
+    /// Poses evaluated (TranslateToFree + finger closing + quality).
+    pub evaluations: u64,
+    /// Capsule queries.
+    pub collision_queries: u64,
+    /// Queries answered by the exact path.
+    pub exact_fallbacks: u64,
+    /// Restarts after the character turned.
+    pub restarts: u32,
+    /// Time spent searching, seconds.
+    pub seconds: f64,
+}
+
+/// An anytime grasp search for one hand, object and movement.
+#[derive(Debug)]
+pub struct GraspPlanner<'a> {
+    ctx: EvaluationContext<'a>,
+    params: SearchParams,
+    rng: SplitMix64,
+    reach_direction: Vec3,
+    current: Evaluation,
+    best_valid: Option<Evaluation>,
+    status: PlannerStatus,
+    since_improvement: u32,
+    axis: usize,
+    stats: SearchStats,
+    workspaces: Vec<Workspace>,
+    candidates: [Rotation; 6],
+    results: Vec<Option<Evaluation>>,
+}
+
+impl<'a> GraspPlanner<'a> {
+    /// Sets up the search: nearest hook, starting position (or the initial approximation), and
+    /// evaluates it.
+    pub fn new(
+        hand: &'a HandModel,
+        object: &'a ObjectModel,
+        movement: &'a GraspMovement,
+        shoulder: Point3,
+        params: SearchParams,
+    ) -> Result<Self, SearchError> {
+        check_params(&params, &shoulder)?;
+        let hook = nearest_hook(object.hooks(), &shoulder).ok_or(SearchError::NoHooks)?;
+        let start =
+            start_rotation(&hook, &shoulder, &params.up).ok_or(SearchError::ShoulderOnHook([
+                shoulder.x, shoulder.y, shoulder.z,
+            ]))?;
+        let reach = hand_reach(hand);
+        let outside = object.collider().exact().signed_distance(&hook);
+        if outside > reach {
+            return Err(SearchError::HookOutside {
+                distance: outside,
+                reach,
+            });
+        }
+        let finger = mean_finger_length(hand);
+        let width = smallest_width(object);
+        if width > 2.0 * finger {
+            return Err(SearchError::TooBig { width, finger });
+        }
+        let size = object.report().size;
+        let diagonal = (size[0] * size[0] + size[1] * size[1] + size[2] * size[2]).sqrt();
+        let ctx = EvaluationContext {
+            hand,
+            object,
+            movement,
+            hook,
+            shoulder,
+            start,
+            wrist_range: params.wrist_range,
+            weights: params
+                .weights
+                .unwrap_or_else(|| QualityWeights::for_movement(movement)),
+            translate: params.translate,
+            max_offset: diagonal + reach,
+            closing: params.closing,
+            min_fingers: params.min_fingers,
+        };
+        let threads = params.threads.clamp(1, 6);
+        let mut planner = Self {
+            ctx,
+            rng: SplitMix64::new(params.seed),
+            reach_direction: horizontal(&(hook - shoulder), &params.up),
+            current: placeholder(start),
+            best_valid: None,
+            status: PlannerStatus::Searching,
+            since_improvement: 0,
+            axis: 0,
+            stats: SearchStats::default(),
+            workspaces: (0..threads).map(|_| Workspace::new(hand)).collect(),
+            candidates: [Rotation::identity(); 6],
+            results: vec![None; 6],
+            params,
+        };
+        planner.restart();
+        Ok(planner)
+    }
+
+    /// Starts again from the starting position of the current shoulder.
+    fn restart(&mut self) {
+        let began = Instant::now();
+        let mut rotation = self.ctx.start;
+        if self.params.initial_approximation {
+            if let Some((r, _)) = initial_approximation(&self.ctx, &mut self.workspaces[0]) {
+                rotation = r;
+            }
+        }
+        self.current = self.ctx.evaluate(&rotation, &mut self.workspaces[0]);
+        self.stats.evaluations += 1;
+        self.best_valid = None;
+        self.consider_best(&self.current.clone());
+        self.status = PlannerStatus::Searching;
+        self.since_improvement = 0;
+        self.collect_counters();
+        self.stats.seconds += began.elapsed().as_secs_f64();
+    }
+
+    fn consider_best(&mut self, e: &Evaluation) {
+        if e.validity.is_ok()
+            && self
+                .best_valid
+                .as_ref()
+                .is_none_or(|b| e.quality > b.quality)
+        {
+            self.best_valid = Some(e.clone());
+        }
+    }
+
+    fn collect_counters(&mut self) {
+        for ws in &mut self.workspaces {
+            self.stats.collision_queries += ws.counters.queries;
+            self.stats.exact_fallbacks += ws.counters.exact_fallbacks;
+            ws.counters = Default::default();
+        }
+    }
+
+    /// One optimization step: a random angle, the step's candidates, move to the best.
+    pub fn step(&mut self) -> PlannerStatus {
+        if self.status != PlannerStatus::Searching {
+            return self.status;
+        }
+        let began = Instant::now();
+        let angle = self.rng.uniform(0.0, self.params.max_angle);
+        let n = step_candidates(
+            self.params.step,
+            &self.current.rotation,
+            angle,
+            self.axis,
+            &mut self.candidates,
+        );
+        self.axis = (self.axis + 1) % 3;
+        self.evaluate_candidates(n);
+        self.stats.evaluations += n as u64;
+        self.stats.steps += 1;
+        let mut improved = false;
+        for k in 0..n {
+            let e = self.results[k]
+                .take()
+                .expect("every candidate was evaluated");
+            self.consider_best(&e);
+            if e.quality > self.current.quality {
+                self.current = e;
+                improved = true;
+            }
+        }
+        self.since_improvement = if improved {
+            0
+        } else {
+            self.since_improvement + 1
+        };
+        self.status = match self.params.stop {
+            StopRule::ThesisLocalMaximum if !improved => PlannerStatus::Converged,
+            StopRule::NoImprovement { steps } if self.since_improvement >= steps => {
+                PlannerStatus::Converged
+            }
+            _ if self.stats.steps >= self.params.max_steps => PlannerStatus::StepLimit,
+            _ => PlannerStatus::Searching,
+        };
+        self.collect_counters();
+        self.stats.seconds += began.elapsed().as_secs_f64();
+        self.status
+    }
+
+    fn evaluate_candidates(&mut self, n: usize) {
+        let ctx = &self.ctx;
+        let candidates = &self.candidates[..n];
+        let threads = self.workspaces.len().min(n);
+        if threads <= 1 {
+            let ws = &mut self.workspaces[0];
+            for (slot, r) in self.results.iter_mut().zip(candidates) {
+                *slot = Some(ctx.evaluate(r, ws));
+            }
+            return;
+        }
+        let per = n.div_ceil(threads);
+        std::thread::scope(|scope| {
+            for ((ws, rotations), slots) in self
+                .workspaces
+                .iter_mut()
+                .zip(candidates.chunks(per))
+                .zip(self.results[..n].chunks_mut(per))
+            {
+                scope.spawn(move || {
+                    for (slot, r) in slots.iter_mut().zip(rotations) {
+                        *slot = Some(ctx.evaluate(r, ws));
+                    }
+                });
+            }
+        });
+    }
+
+    /// Steps until the time budget is spent or the search stops.
+    pub fn run_for(&mut self, budget: Duration) -> PlannerStatus {
+        let began = Instant::now();
+        while self.status == PlannerStatus::Searching && began.elapsed() < budget {
+            self.step();
+        }
+        self.status
+    }
+
+    /// Steps until the stop rule or the step limit.
+    pub fn run_to_end(&mut self) -> PlannerStatus {
+        while self.status == PlannerStatus::Searching {
+            self.step();
+        }
+        self.status
+    }
+
+    /// Tells the planner where the shoulder is now. If the direction from the shoulder to the
+    /// hook, seen from above, turned by more than the restart angle, the search restarts from the
+    /// new starting position (§6.5.6) and returns true; otherwise only wDist changes.
+    pub fn set_shoulder(&mut self, shoulder: Point3) -> Result<bool, SearchError> {
+        check_params(&self.params, &shoulder)?;
+        let start = start_rotation(&self.ctx.hook, &shoulder, &self.params.up).ok_or(
+            SearchError::ShoulderOnHook([shoulder.x, shoulder.y, shoulder.z]),
+        )?;
+        self.ctx.shoulder = shoulder;
+        let direction = horizontal(&(self.ctx.hook - shoulder), &self.params.up);
+        let turned = direction.dot(&self.reach_direction).clamp(-1.0, 1.0).acos();
+        if turned > self.params.restart_angle {
+            self.ctx.start = start;
+            self.reach_direction = direction;
+            self.stats.restarts += 1;
+            self.restart();
+            return Ok(true);
+        }
+        self.current = self
+            .ctx
+            .evaluate(&self.current.rotation, &mut self.workspaces[0]);
+        self.best_valid = None;
+        self.consider_best(&self.current.clone());
+        self.status = PlannerStatus::Searching;
+        self.since_improvement = 0;
+        Ok(false)
+    }
+
+    /// Status.
+    pub fn status(&self) -> PlannerStatus {
+        self.status
+    }
+
+    /// The best valid pose so far.
+    pub fn best(&self) -> Option<&Evaluation> {
+        self.best_valid.as_ref()
+    }
+
+    /// The current pose of the search (valid or not).
+    pub fn current(&self) -> &Evaluation {
+        &self.current
+    }
+
+    /// Counts and time.
+    pub fn stats(&self) -> SearchStats {
+        self.stats
+    }
+
+    /// The evaluation context (hand, object, hook, shoulder, start...).
+    pub fn context(&self) -> &EvaluationContext<'a> {
+        &self.ctx
+    }
+
+    /// Re-creates the pose of an evaluation in `ws` (deterministic) and returns it again.
+    pub fn pose(&self, e: &Evaluation, ws: &mut Workspace) -> Evaluation {
+        self.ctx.evaluate(&e.rotation, ws)
+    }
+}
+
+fn placeholder(rotation: Rotation) -> Evaluation {
+    Evaluation {
+        rotation,
+        quality: f64::NEG_INFINITY,
+        terms: Default::default(),
+        offset: 0.0,
+        fingers_touching: 0,
+        validity: Ok(()),
+    }
+}
+
+fn check_params(p: &SearchParams, shoulder: &Point3) -> Result<(), SearchError> {
+    let bad = |what: &str| Err(SearchError::BadParameter(what.to_string()));
+    if !shoulder.iter().all(|c| c.is_finite()) {
+        return bad("the shoulder position is not finite");
+    }
+    if !(p.max_angle.is_finite() && p.max_angle > 0.0) {
+        return bad("the largest step angle must be a positive number of radians");
+    }
+    if !(p.restart_angle.is_finite() && p.restart_angle >= 0.0) {
+        return bad("the restart angle must be a non-negative number");
+    }
+    if !p.up.iter().all(|c| c.is_finite()) || p.up.norm() < 1e-9 {
+        return bad("the up direction must be a finite, non-zero vector");
+    }
+    if p.closing.interpolations == 0 || p.closing.interpolations > 10_000 {
+        return bad("interpolations must be between 1 and 10000");
+    }
+    if let Some(t) = p.closing.contact_tolerance {
+        if !(t.is_finite() && t > 0.0) {
+            return bad("the contact tolerance must be a positive number of metres");
+        }
+    }
+    let steps_ok = match p.translate {
+        TranslateMode::Steps { step } => step.is_finite() && step > 1e-6,
+        TranslateMode::Bisection { coarse, precision } => {
+            coarse.is_finite()
+                && precision.is_finite()
+                && coarse > 1e-6
+                && precision > 1e-7
+                && precision <= coarse
+        }
+    };
+    if !steps_ok {
+        return bad("TranslateToFree steps must be positive (at least 1 µm) and the precision no larger than the coarse step");
+    }
+    if let Some(w) = p.weights {
+        if !w.is_valid() {
+            return bad("quality weights must be finite and not negative");
+        }
+    }
+    if p.max_steps == 0 {
+        return bad("max_steps must be at least 1");
+    }
+    Ok(())
+}
+
+/// Direction projected on the plane across `up`, normalized (zero if vertical).
+fn horizontal(d: &Vec3, up: &Vec3) -> Vec3 {
+    let u = up.normalize();
+    let h = d - u * d.dot(&u);
+    if h.norm() < 1e-12 {
+        Vec3::zeros()
+    } else {
+        h.normalize()
+    }
+}
+
+/// Farthest capsule point from the root in the rest pose, metres.
+fn hand_reach(hand: &HandModel) -> f64 {
+    let rest = vec![Rotation::identity(); hand.bones().len()];
+    let world = hand.pose_transforms(&crate::math::Transform::identity(), &rest);
+    hand.capsules()
+        .iter()
+        .map(|c| {
+            let w = world[c.bone];
+            (w * c.a).coords.norm().max((w * c.b).coords.norm()) + c.radius
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Mean over fingers of the chain's length from its first joint to its tip.
+fn mean_finger_length(hand: &HandModel) -> f64 {
+    let total: f64 = hand
+        .fingers()
+        .iter()
+        .map(|f| {
+            f.bones
+                .iter()
+                .flat_map(|&b| hand.bone_capsules(b))
+                .map(|c| (c.b - c.a).norm())
+                .sum::<f64>()
+        })
+        .sum();
+    total / hand.fingers().len() as f64
+}
+
+/// Smallest extent of the object's vertices along 13 directions (axes, face and body diagonals).
+fn smallest_width(object: &ObjectModel) -> f64 {
+    let mut directions = Vec::with_capacity(13);
+    for x in -1i32..=1 {
+        for y in -1i32..=1 {
+            for z in -1i32..=1 {
+                let v = Vec3::new(x as f64, y as f64, z as f64);
+                // One of each ± pair.
+                if (x, y, z) > (0, 0, 0) {
+                    directions.push(v.normalize());
+                }
+            }
+        }
+    }
+    directions
+        .iter()
+        .map(|d| {
+            let (lo, hi) = object.mesh().vertices.iter().fold(
+                (f64::INFINITY, f64::NEG_INFINITY),
+                |(lo, hi), p| {
+                    let s = p.coords.dot(d);
+                    (lo.min(s), hi.max(s))
+                },
+            );
+            hi - lo
+        })
+        .fold(f64::INFINITY, f64::min)
+}

@@ -1,0 +1,340 @@
+//! Quality of a grasp pose (§5.5, Alg. 6–7): weighted distances, every term reported, and whether
+//! the pose is a valid grasp.
+
+use crate::collision::Capsule;
+use crate::finger_closing::{close_fingers, ClosingParams};
+use crate::hand::HandModel;
+use crate::math::{Point3, Rotation, Transform};
+use crate::movement::GraspMovement;
+use crate::object::ObjectModel;
+use crate::workspace::Workspace;
+
+use super::translate_to_free::{hand_root, translate_to_free, TranslateMode};
+use super::wrist_range::WristRange;
+
+/// Distance within which a capsule counts as touching, and depth beyond which it penetrates.
+pub const CONTACT_TOLERANCE: f64 = 0.001;
+
+/// Weights of the quality's terms: quality = −(g·gDist + f·fDist + t·tDist* + w·wDist).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct QualityWeights {
+    /// Weight of gDist, the grasp center–hook distance (k1, w1).
+    pub gdist: f64,
+    /// Weight of fDist, the first-contact phalanges–hook distances (k2).
+    pub fdist: f64,
+    /// Weight of tDist*, the contact fingers' tips–hook distances (w2).
+    pub tdist: f64,
+    /// Weight of wDist, the wrist–shoulder distance (k3, w3).
+    pub wdist: f64,
+}
+
+impl QualityWeights {
+    /// Eq. 5.1 with Alg. 6's weights: k1 = 5, k2 = 1, k3 = 1.
+    pub fn power() -> Self {
+        Self {
+            gdist: 5.0,
+            fdist: 1.0,
+            tdist: 0.0,
+            wdist: 1.0,
+        }
+    }
+
+    /// Eq. 5.2; the thesis does not print its weights, so w1 = 5, w2 = 1, w3 = 1 as for power.
+    pub fn precision() -> Self {
+        Self {
+            gdist: 5.0,
+            fdist: 0.0,
+            tdist: 1.0,
+            wdist: 1.0,
+        }
+    }
+
+    /// Eq. 5.2 for movements that name contact fingers, Eq. 5.1 otherwise.
+    pub fn for_movement(movement: &GraspMovement) -> Self {
+        if movement.contact_fingers().is_empty() {
+            Self::power()
+        } else {
+            Self::precision()
+        }
+    }
+
+    /// All weights finite and not negative.
+    pub fn is_valid(&self) -> bool {
+        [self.gdist, self.fdist, self.tdist, self.wdist]
+            .iter()
+            .all(|w| w.is_finite() && *w >= 0.0)
+    }
+}
+
+/// Every term of the quality, in metres (§5.5.1).
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
+pub struct QualityTerms {
+    /// Grasp center–hook distance.
+    pub gdist: f64,
+    /// Sum over fingers of the distance from the end of the first-contact bone to the hook.
+    pub fdist: f64,
+    /// Sum over all fingers of the tip–hook distance.
+    pub tdist: f64,
+    /// Sum over the movement's contact fingers of the tip–hook distance (tDist*).
+    pub tdist_contact: f64,
+    /// Wrist–shoulder distance.
+    pub wdist: f64,
+    /// Mean interpolation reached by the moving bones.
+    pub mean_reached: f64,
+}
+
+/// Why a pose is not a valid grasp.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[serde(tag = "reason", rename_all = "snake_case")]
+pub enum Invalid {
+    /// The hook rotation is outside the wrist range (§6.5.4).
+    OutsideWristRange,
+    /// The hand could not be backed off free of the object.
+    NotFreed {
+        /// How far it was backed off, metres.
+        max_offset: f64,
+    },
+    /// A capsule enters the object by more than [`CONTACT_TOLERANCE`].
+    Penetrates {
+        /// The bone.
+        bone: String,
+    },
+    /// Too few fingers touch the object.
+    TooFewFingers {
+        /// Fingers touching.
+        touching: usize,
+        /// Fingers required.
+        required: usize,
+    },
+    /// A finger the movement needs does not touch.
+    MissingContact {
+        /// The finger.
+        finger: String,
+    },
+}
+
+impl std::fmt::Display for Invalid {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Invalid::OutsideWristRange => write!(f, "the hand would leave the wrist's range"),
+            Invalid::NotFreed { max_offset } => {
+                write!(
+                    f,
+                    "the hand still touches the object after backing off {max_offset:.3} m"
+                )
+            }
+            Invalid::Penetrates { bone } => {
+                write!(f, "bone '{bone}' enters the object by more than 1 mm")
+            }
+            Invalid::TooFewFingers { touching, required } => {
+                write!(
+                    f,
+                    "{touching} finger(s) touch the object, {required} needed"
+                )
+            }
+            Invalid::MissingContact { finger } => {
+                write!(f, "the {finger} does not touch the object")
+            }
+        }
+    }
+}
+
+/// The evaluation of one hook rotation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Evaluation {
+    /// The hook rotation evaluated.
+    pub rotation: Rotation,
+    /// Quality (higher is better); −∞ outside the wrist range or when the hand cannot be freed.
+    pub quality: f64,
+    /// The terms.
+    pub terms: QualityTerms,
+    /// How far the grasp center was backed off the hook, metres.
+    pub offset: f64,
+    /// Fingers touching the object.
+    pub fingers_touching: usize,
+    /// `Ok` for a valid grasp.
+    pub validity: Result<(), Invalid>,
+}
+
+/// What an evaluation needs besides the rotation.
+#[derive(Debug, Clone, Copy)]
+pub struct EvaluationContext<'a> {
+    /// The hand.
+    pub hand: &'a HandModel,
+    /// The object.
+    pub object: &'a ObjectModel,
+    /// The grasp movement.
+    pub movement: &'a GraspMovement,
+    /// The hook point, world.
+    pub hook: Point3,
+    /// The character's shoulder, world.
+    pub shoulder: Point3,
+    /// Hook rotation of the starting position.
+    pub start: Rotation,
+    /// Wrist range relative to `start`.
+    pub wrist_range: WristRange,
+    /// Quality weights.
+    pub weights: QualityWeights,
+    /// TranslateToFree mode.
+    pub translate: TranslateMode,
+    /// Furthest the hand may back off, metres.
+    pub max_offset: f64,
+    /// Finger closing parameters.
+    pub closing: ClosingParams,
+    /// Fingers that must touch for a movement without named contact fingers.
+    pub min_fingers: usize,
+}
+
+impl EvaluationContext<'_> {
+    /// Hook transform for a rotation.
+    pub fn hook_frame(&self, rotation: &Rotation) -> Transform {
+        Transform::from_parts(self.hook.coords.into(), *rotation)
+    }
+
+    /// Places the hand for `rotation` (TranslateToFree, then finger closing) and evaluates it.
+    /// The pose stays in `ws`.
+    pub fn evaluate(&self, rotation: &Rotation, ws: &mut Workspace) -> Evaluation {
+        let mut eval = Evaluation {
+            rotation: *rotation,
+            quality: f64::NEG_INFINITY,
+            terms: QualityTerms::default(),
+            offset: 0.0,
+            fingers_touching: 0,
+            validity: Ok(()),
+        };
+        if !self.wrist_range.contains(&self.start, rotation) {
+            eval.validity = Err(Invalid::OutsideWristRange);
+            return eval;
+        }
+        let hook = self.hook_frame(rotation);
+        let Some(offset) = translate_to_free(
+            self.hand,
+            self.object,
+            self.movement,
+            &hook,
+            self.translate,
+            self.max_offset,
+            ws,
+        ) else {
+            eval.validity = Err(Invalid::NotFreed {
+                max_offset: self.max_offset,
+            });
+            return eval;
+        };
+        eval.offset = offset;
+        let root = hand_root(&hook, self.movement, offset);
+        let outcome = close_fingers(
+            self.hand,
+            self.object,
+            self.movement,
+            &root,
+            &self.closing,
+            ws,
+        );
+        eval.terms = self.terms(offset, ws);
+        let w = &self.weights;
+        let t = &eval.terms;
+        eval.quality = -(w.gdist * t.gdist
+            + w.fdist * t.fdist
+            + w.tdist * t.tdist_contact
+            + w.wdist * t.wdist);
+        eval.fingers_touching = self
+            .hand
+            .fingers()
+            .iter()
+            .filter(|f| f.bones.iter().any(|&b| ws.touching[b]))
+            .count();
+        eval.validity = self.validity(outcome.started_in_collision, eval.fingers_touching, ws);
+        eval
+    }
+
+    fn terms(&self, offset: f64, ws: &Workspace) -> QualityTerms {
+        let hand = self.hand;
+        let mut terms = QualityTerms {
+            gdist: offset,
+            wdist: (ws.world[0].translation.vector - self.shoulder.coords).norm(),
+            ..Default::default()
+        };
+        let contact = self.movement.contact_fingers();
+        for (fi, finger) in hand.fingers().iter().enumerate() {
+            let last = *finger.bones.last().expect("fingers have bones");
+            let tip = ws.world[last] * finger.tip;
+            let tip_distance = (tip - self.hook).norm();
+            terms.tdist += tip_distance;
+            if contact.contains(&fi) {
+                terms.tdist_contact += tip_distance;
+            }
+            // Alg. 7: the first-contact bone is the last of those that reached the fewest
+            // interpolations; its end point is the end of its capsule.
+            let fewest = finger
+                .bones
+                .iter()
+                .map(|&b| ws.reached[b])
+                .min()
+                .unwrap_or(0);
+            let first_contact = *finger
+                .bones
+                .iter()
+                .rev()
+                .find(|&&b| ws.reached[b] == fewest)
+                .expect("the minimum is reached by some bone");
+            let end = hand
+                .bone_capsules(first_contact)
+                .last()
+                .map_or(ws.world[first_contact].translation.vector.into(), |c| {
+                    ws.world[first_contact] * c.b
+                });
+            terms.fdist += (end - self.hook).norm();
+        }
+        let moving = hand.bones().len().saturating_sub(1).max(1);
+        terms.mean_reached =
+            ws.reached.iter().skip(1).map(|&r| r as f64).sum::<f64>() / moving as f64;
+        terms
+    }
+
+    fn validity(
+        &self,
+        started_in_collision: bool,
+        touching: usize,
+        ws: &mut Workspace,
+    ) -> Result<(), Invalid> {
+        let hand = self.hand;
+        if started_in_collision
+            || self
+                .closing
+                .contact_tolerance
+                .is_none_or(|t| t > CONTACT_TOLERANCE)
+        {
+            // Without contact refinement bones may stop inside the object: check every capsule.
+            for c in hand.capsules() {
+                let w = ws.world[c.bone];
+                let shrunk = Capsule {
+                    a: w * c.a,
+                    b: w * c.b,
+                    radius: c.radius - CONTACT_TOLERANCE,
+                };
+                if shrunk.radius > 0.0 && self.object.capsule_touches(&shrunk, &mut ws.counters) {
+                    return Err(Invalid::Penetrates {
+                        bone: hand.bones()[c.bone].name.clone(),
+                    });
+                }
+            }
+        }
+        let contact = self.movement.contact_fingers();
+        if contact.is_empty() {
+            let required = self.min_fingers.min(hand.fingers().len());
+            if touching < required {
+                return Err(Invalid::TooFewFingers { touching, required });
+            }
+        }
+        for &fi in contact {
+            let finger = &hand.fingers()[fi];
+            if !finger.bones.iter().any(|&b| ws.touching[b]) {
+                return Err(Invalid::MissingContact {
+                    finger: finger.name.clone(),
+                });
+            }
+        }
+        Ok(())
+    }
+}
