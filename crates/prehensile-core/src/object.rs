@@ -74,6 +74,15 @@ impl ObjectModel {
         })
     }
 
+    /// The same object with other hooks.
+    pub fn with_hooks(mut self, hooks: Vec<Point3>) -> Result<Self, ObjectError> {
+        if let Some(i) = hooks.iter().position(|h| !h.iter().all(|c| c.is_finite())) {
+            return Err(ObjectError::BadHook(i));
+        }
+        self.hooks = hooks;
+        Ok(self)
+    }
+
     /// Name of the object.
     pub fn name(&self) -> &str {
         &self.name

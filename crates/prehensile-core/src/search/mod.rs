@@ -6,11 +6,14 @@ pub mod optimization_step;
 pub mod planner;
 pub mod quality;
 pub mod random;
+pub mod result;
 pub mod start_position;
 pub mod translate_to_free;
 pub mod wrist_range;
 
-pub use planner::{GraspPlanner, PlannerStatus, SearchError, SearchParams, StopRule};
+pub use optimization_step::StepKind;
+pub use planner::{GraspPlanner, PlannerStatus, SearchError, SearchParams, SearchStats, StopRule};
 pub use quality::{Evaluation, Invalid, QualityTerms, QualityWeights};
+pub use result::{GraspResult, RESULT_SCHEMA};
 pub use translate_to_free::TranslateMode;
 pub use wrist_range::WristRange;

@@ -1,0 +1,118 @@
+//! Command-line flags (first layer: parse and validate shapes; meaning is resolved per command).
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand};
+
+/// Grasp poses for virtual hands on closed meshes.
+#[derive(Debug, Parser)]
+#[command(name = "prehensile", version, about, long_about = None)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// Subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Check that a mesh is a closed, manifold object and report its size and volume.
+    Check(CheckArgs),
+    /// List the built-in hands, or describe a hand file.
+    Hands(HandsArgs),
+    /// Search a grasp pose for one hand and one object.
+    Grasp(GraspArgs),
+    /// Grasp every built-in object with every built-in hand and write the results to a folder.
+    Demo(DemoArgs),
+}
+
+/// `prehensile check`.
+#[derive(Debug, Args)]
+pub struct CheckArgs {
+    /// Mesh file (.obj, .stl, .ply).
+    pub mesh: PathBuf,
+    /// Multiply coordinates by this factor (e.g. 0.001 for millimetres).
+    #[arg(long, default_value_t = 1.0)]
+    pub scale: f64,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// `prehensile hands`.
+#[derive(Debug, Args)]
+pub struct HandsArgs {
+    /// Describe this hand file (TOML, see docs/HAND_FORMAT.md) instead of listing the built-ins.
+    #[arg(long)]
+    pub file: Option<PathBuf>,
+    /// Print JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// `prehensile grasp`.
+#[derive(Debug, Args)]
+pub struct GraspArgs {
+    /// A built-in hand (human, robot3, cartoon4) or a hand file (.toml).
+    #[arg(long, default_value = "human")]
+    pub hand: String,
+    /// A built-in object (sphere, box, cylinder, torus, mug) or a mesh file (.obj, .stl, .ply).
+    #[arg(long, default_value = "sphere")]
+    pub object: String,
+    /// Multiply the mesh's coordinates by this factor.
+    #[arg(long, default_value_t = 1.0)]
+    pub scale: f64,
+    /// power, precision, close, any movement of the hand, or auto (try each, keep the best).
+    #[arg(long, default_value = "auto")]
+    pub movement: String,
+    /// Hook position X,Y,Z in the object's frame (default: its centre of mass).
+    #[arg(long, value_parser = parse_point)]
+    pub hook: Option<[f64; 3]>,
+    /// Shoulder position X,Y,Z (default: 35 cm behind, 20 cm aside and 35 cm above the hook).
+    #[arg(long, value_parser = parse_point)]
+    pub shoulder: Option<[f64; 3]>,
+    /// The world's up axis: x, y or z.
+    #[arg(long, default_value = "z")]
+    pub up: String,
+    /// Seed of the random search angles.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Stop after this many milliseconds (default: run until converged).
+    #[arg(long)]
+    pub budget_ms: Option<f64>,
+    /// Write the result as JSON here.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Write a picture of the grasp (SVG) here.
+    #[arg(long)]
+    pub svg: Option<PathBuf>,
+}
+
+/// `prehensile demo`.
+#[derive(Debug, Args)]
+pub struct DemoArgs {
+    /// Folder for the results.
+    #[arg(long, default_value = "prehensile-demo")]
+    pub out: PathBuf,
+    /// Seed of the random search angles.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+}
+
+/// Parses `X,Y,Z`.
+pub fn parse_point(s: &str) -> Result<[f64; 3], String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if parts.len() != 3 {
+        return Err(format!("'{s}' should be three numbers X,Y,Z"));
+    }
+    let mut p = [0.0f64; 3];
+    for (slot, part) in p.iter_mut().zip(&parts) {
+        *slot = part
+            .parse()
+            .map_err(|_| format!("'{part}' in '{s}' is not a number"))?;
+        if !slot.is_finite() {
+            return Err(format!("'{part}' in '{s}' is not a finite number"));
+        }
+    }
+    Ok(p)
+}

@@ -1,0 +1,47 @@
+//! `prehensile check MESH`: is this mesh a usable object?
+
+use prehensile_formats::read_mesh;
+
+use crate::args::CheckArgs;
+use crate::CliError;
+
+/// Prints the mesh report; exit code 2 when the mesh has defects.
+pub fn run(args: &CheckArgs) -> Result<i32, CliError> {
+    let mesh = read_mesh(&args.mesh, args.scale).map_err(CliError::from_display)?;
+    let report = mesh.report();
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&report).map_err(CliError::from_display)?
+        );
+    } else {
+        println!("{}", args.mesh.display());
+        println!("  triangles           {}", report.triangles);
+        println!("  vertices (welded)   {}", report.vertices);
+        println!(
+            "  closed              {}",
+            if report.boundary_edges == 0 {
+                "yes"
+            } else {
+                "no"
+            }
+        );
+        println!("  boundary edges      {}", report.boundary_edges);
+        println!("  non-manifold edges  {}", report.non_manifold_edges);
+        println!("  flipped edges       {}", report.inconsistent_edges);
+        println!("  degenerate triangles {}", report.degenerate_triangles);
+        println!("  volume              {:.6e} m³", report.volume);
+        println!(
+            "  size                {:.4} x {:.4} x {:.4} m",
+            report.size[0], report.size[1], report.size[2]
+        );
+    }
+    if report.defects.is_empty() {
+        Ok(0)
+    } else {
+        for d in &report.defects {
+            eprintln!("error: {}: {d}", args.mesh.display());
+        }
+        Ok(2)
+    }
+}

@@ -1,0 +1,101 @@
+//! `prehensile demo`: every built-in hand on every built-in object, on defaults.
+
+use std::fmt::Write as _;
+
+use indicatif::{ProgressBar, ProgressStyle};
+use prehensile_core::math::Vec3;
+use prehensile_core::shapes::BUILTIN_OBJECTS;
+use prehensile_formats::BUILTIN_HANDS;
+
+use crate::args::DemoArgs;
+use crate::commands::grasp::{default_shoulder, search, Request};
+use crate::{picture, sources, CliError};
+
+/// Runs the demo and writes `<hand>-<object>.json`, `.svg` and an `index.html` gallery.
+pub fn run(args: &DemoArgs) -> Result<i32, CliError> {
+    std::fs::create_dir_all(&args.out)
+        .map_err(|e| CliError(format!("cannot create {}: {e}", args.out.display())))?;
+    let hands: Vec<_> = BUILTIN_HANDS
+        .iter()
+        .map(|h| sources::hand(h))
+        .collect::<Result<_, _>>()?;
+    let objects: Vec<_> = BUILTIN_OBJECTS
+        .iter()
+        .map(|o| sources::object(o, 1.0))
+        .collect::<Result<_, _>>()?;
+    let bar = ProgressBar::new((hands.len() * objects.len()) as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}").expect("valid template"),
+    );
+    let mut table = vec![format!(
+        "{:<9} {:<9} {:<10} {:>8} {:<6} {:<32} {:>8}",
+        "hand", "object", "movement", "quality", "valid", "fingers touching", "time ms"
+    )];
+    let mut gallery = String::from("<!doctype html><meta charset=utf-8><title>Prehensile demo</title><style>body{font-family:sans-serif;background:#fafafa}figure{display:inline-block;margin:8px;background:#fff;border:1px solid #ddd}figcaption{padding:4px 8px;font-size:13px}</style><h1>Prehensile demo</h1>\n");
+    let mut invalid = 0;
+    for hand in &hands {
+        for object in &objects {
+            bar.set_message(format!("{} on {}", hand.name(), object.name()));
+            let up = Vec3::z();
+            let request = Request {
+                hand,
+                object,
+                movement: "auto",
+                shoulder: default_shoulder(&object.hooks()[0], &up),
+                up,
+                seed: args.seed,
+                budget: None,
+            };
+            let (result, took) = search(&request)?;
+            let stem = format!("{}-{}", hand.name(), object.name());
+            let json = serde_json::to_string_pretty(&result).map_err(CliError::from_display)?;
+            write(&args.out.join(format!("{stem}.json")), &json)?;
+            write(
+                &args.out.join(format!("{stem}.svg")),
+                &picture::grasp_svg(object, &result),
+            )?;
+            if !result.valid {
+                invalid += 1;
+            }
+            table.push(format!(
+                "{:<9} {:<9} {:<10} {:>8} {:<6} {:<32} {:>8.1}",
+                hand.name(),
+                object.name(),
+                result.movement,
+                result.quality.map_or("-inf".into(), |q| format!("{q:.4}")),
+                if result.valid { "yes" } else { "no" },
+                result.fingers_touching.join(","),
+                took.as_secs_f64() * 1e3
+            ));
+            let _ = writeln!(
+                gallery,
+                "<figure><img src=\"{stem}.svg\" width=520><figcaption>{} on {}: {} grasp, {}, fingers touching: {}</figcaption></figure>",
+                hand.name(),
+                object.name(),
+                result.movement,
+                if result.valid { "valid" } else { "not valid" },
+                result.fingers_touching.join(", ")
+            );
+            bar.inc(1);
+        }
+    }
+    bar.finish_and_clear();
+    write(&args.out.join("index.html"), &gallery)?;
+    for line in &table {
+        println!("{line}");
+    }
+    println!(
+        "\nwrote {} results (JSON + SVG) and {}; open it in a browser",
+        hands.len() * objects.len(),
+        args.out.join("index.html").display()
+    );
+    if invalid > 0 {
+        println!("{invalid} combination(s) found no valid grasp; their JSON says why");
+    }
+    Ok(0)
+}
+
+fn write(path: &std::path::Path, text: &str) -> Result<(), CliError> {
+    std::fs::write(path, text)
+        .map_err(|e| CliError(format!("cannot write {}: {e}", path.display())))
+}

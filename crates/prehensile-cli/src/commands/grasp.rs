@@ -1,0 +1,185 @@
+//! `prehensile grasp`: one hand, one object, one grasp.
+
+use std::time::{Duration, Instant};
+
+use prehensile_core::math::{Point3, Vec3};
+use prehensile_core::search::{GraspPlanner, GraspResult, SearchParams};
+use prehensile_core::{HandModel, ObjectModel, Workspace};
+
+use crate::args::GraspArgs;
+use crate::{picture, sources, CliError};
+
+/// A resolved grasp request.
+pub struct Request<'a> {
+    /// The hand.
+    pub hand: &'a HandModel,
+    /// The object (hooks set).
+    pub object: &'a ObjectModel,
+    /// Movement name or `auto`.
+    pub movement: &'a str,
+    /// Shoulder, world.
+    pub shoulder: Point3,
+    /// Up direction.
+    pub up: Vec3,
+    /// Seed.
+    pub seed: u64,
+    /// Time budget per movement.
+    pub budget: Option<Duration>,
+}
+
+/// Default shoulder: 35 cm behind, 20 cm to the side and 35 cm above the hook.
+pub fn default_shoulder(hook: &Point3, up: &Vec3) -> Point3 {
+    let (behind, side) = if up.z.abs() > 0.5 {
+        (Vec3::x(), Vec3::y())
+    } else if up.y.abs() > 0.5 {
+        (Vec3::z(), Vec3::x())
+    } else {
+        (Vec3::y(), Vec3::z())
+    };
+    hook - behind * 0.35 - side * 0.2 + up * 0.35
+}
+
+/// Runs the search for one movement, or for each movement with `auto`, and returns the chosen
+/// result with the wall time it took.
+///
+/// `auto` tries the hand's authored movements (the generic `close` only when there are none) and
+/// keeps, among valid results, the one with the most fingers touching, then the smallest
+/// gDist (the grasp center closest to the hook): more contacts make a steadier grasp, a small gDist
+/// a better-centred one. Qualities of different movements use different formulas (Eq. 5.1 and
+/// 5.2) and are not compared.
+pub fn search(req: &Request) -> Result<(GraspResult, Duration), CliError> {
+    let names: Vec<&str> = if req.movement == "auto" {
+        let authored: Vec<&str> = req
+            .hand
+            .movements()
+            .iter()
+            .map(|m| m.name())
+            .filter(|n| *n != "close")
+            .collect();
+        if authored.is_empty() {
+            vec!["close"]
+        } else {
+            authored
+        }
+    } else {
+        vec![req.movement]
+    };
+    let began = Instant::now();
+    let mut best: Option<GraspResult> = None;
+    for name in names {
+        let movement = req.hand.movement(name).ok_or_else(|| {
+            CliError(format!(
+                "hand '{}' has no movement '{name}'; it has {}, or use auto",
+                req.hand.name(),
+                req.hand
+                    .movements()
+                    .iter()
+                    .map(|m| m.name())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ))
+        })?;
+        let params = SearchParams {
+            seed: req.seed,
+            up: req.up,
+            ..SearchParams::default()
+        };
+        let mut planner = GraspPlanner::new(req.hand, req.object, movement, req.shoulder, params)
+            .map_err(CliError::from_display)?;
+        match req.budget {
+            Some(b) => planner.run_for(b),
+            None => planner.run_to_end(),
+        };
+        let mut ws = Workspace::new(req.hand);
+        let result = GraspResult::from_planner(&planner, &mut ws);
+        let better = match &best {
+            None => true,
+            Some(b) => {
+                (
+                    result.valid,
+                    result.fingers_touching.len(),
+                    -result.terms.gdist,
+                ) > (b.valid, b.fingers_touching.len(), -b.terms.gdist)
+            }
+        };
+        if better {
+            best = Some(result);
+        }
+    }
+    Ok((best.expect("at least one movement"), began.elapsed()))
+}
+
+/// Parses `--up`.
+pub fn up_axis(s: &str) -> Result<Vec3, CliError> {
+    match s {
+        "x" => Ok(Vec3::x()),
+        "y" => Ok(Vec3::y()),
+        "z" => Ok(Vec3::z()),
+        other => Err(CliError(format!("--up {other}: use x, y or z"))),
+    }
+}
+
+/// Runs `prehensile grasp`.
+pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
+    let hand = sources::hand(&args.hand)?;
+    let mut object = sources::object(&args.object, args.scale)?;
+    if let Some(h) = args.hook {
+        object = object
+            .with_hooks(vec![Point3::from(h)])
+            .map_err(CliError::from_display)?;
+    }
+    let up = up_axis(&args.up)?;
+    let hook = object.hooks()[0];
+    let shoulder = args
+        .shoulder
+        .map(Point3::from)
+        .unwrap_or_else(|| default_shoulder(&hook, &up));
+    let budget = match args.budget_ms {
+        Some(ms) if ms.is_finite() && ms > 0.0 => Some(Duration::from_secs_f64(ms / 1000.0)),
+        Some(ms) => {
+            return Err(CliError(format!(
+                "--budget-ms {ms} must be a positive number"
+            )))
+        }
+        None => None,
+    };
+    let request = Request {
+        hand: &hand,
+        object: &object,
+        movement: &args.movement,
+        shoulder,
+        up,
+        seed: args.seed,
+        budget,
+    };
+    let (result, took) = search(&request)?;
+    let json = serde_json::to_string_pretty(&result).map_err(CliError::from_display)?;
+    match &args.out {
+        Some(path) => std::fs::write(path, &json)
+            .map_err(|e| CliError(format!("cannot write {}: {e}", path.display())))?,
+        None if args.svg.is_none() => println!("{json}"),
+        None => {}
+    }
+    if let Some(path) = &args.svg {
+        std::fs::write(path, picture::grasp_svg(&object, &result))
+            .map_err(|e| CliError(format!("cannot write {}: {e}", path.display())))?;
+    }
+    let status = if result.valid {
+        "valid grasp".to_string()
+    } else {
+        format!(
+            "no valid grasp: {}",
+            result.invalid_reason.as_deref().unwrap_or("unknown")
+        )
+    };
+    eprintln!(
+        "{} on {}: {} ({}), fingers touching: {}, {:.1} ms",
+        hand.name(),
+        object.name(),
+        status,
+        result.movement,
+        result.fingers_touching.join(", "),
+        took.as_secs_f64() * 1e3
+    );
+    Ok(if result.valid { 0 } else { 1 })
+}

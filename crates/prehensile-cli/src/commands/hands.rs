@@ -1,0 +1,100 @@
+//! `prehensile hands`: the built-in hands, or one hand file described.
+
+use prehensile_core::hand::Joint;
+use prehensile_core::HandModel;
+use prehensile_formats::{builtin_hand, BUILTIN_HANDS};
+
+use crate::args::HandsArgs;
+use crate::CliError;
+
+#[derive(serde::Serialize)]
+struct HandSummary {
+    name: String,
+    description: String,
+    bones: usize,
+    capsules: usize,
+    degrees_of_freedom: usize,
+    fingers: Vec<String>,
+    movements: Vec<String>,
+    joints: Vec<JointSummary>,
+}
+
+#[derive(serde::Serialize)]
+struct JointSummary {
+    bone: String,
+    kind: &'static str,
+    limits_deg: Vec<[f64; 2]>,
+}
+
+fn summary(h: &HandModel) -> HandSummary {
+    HandSummary {
+        name: h.name().into(),
+        description: h.description().into(),
+        bones: h.bones().len(),
+        capsules: h.capsules().len(),
+        degrees_of_freedom: h.dof_count(),
+        fingers: h.fingers().iter().map(|f| f.name.clone()).collect(),
+        movements: h.movements().iter().map(|m| m.name().to_string()).collect(),
+        joints: h
+            .bones()
+            .iter()
+            .map(|b| JointSummary {
+                bone: b.name.clone(),
+                kind: match b.joint {
+                    Joint::Fixed => "fixed",
+                    Joint::Hinge { .. } => "hinge",
+                    Joint::TwoAxis { .. } => "two-axis",
+                    Joint::Ball { .. } => "ball",
+                },
+                limits_deg: (0..b.joint.dofs())
+                    .map(|k| b.joint.limits(k).map(f64::to_degrees))
+                    .collect(),
+            })
+            .collect(),
+    }
+}
+
+/// Lists or describes hands.
+pub fn run(args: &HandsArgs) -> Result<i32, CliError> {
+    let hands: Vec<HandModel> = match &args.file {
+        Some(path) => vec![prehensile_formats::load_hand(path).map_err(CliError::from_display)?],
+        None => BUILTIN_HANDS
+            .iter()
+            .filter_map(|n| builtin_hand(n))
+            .collect(),
+    };
+    let summaries: Vec<HandSummary> = hands.iter().map(summary).collect();
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&summaries).map_err(CliError::from_display)?
+        );
+        return Ok(0);
+    }
+    println!(
+        "{:<10} {:>5} {:>8} {:>4}  {:<34} movements",
+        "hand", "bones", "capsules", "dofs", "fingers"
+    );
+    for s in &summaries {
+        println!(
+            "{:<10} {:>5} {:>8} {:>4}  {:<34} {}",
+            s.name,
+            s.bones,
+            s.capsules,
+            s.degrees_of_freedom,
+            s.fingers.join(","),
+            s.movements.join(",")
+        );
+    }
+    if args.file.is_some() {
+        for j in &summaries[0].joints {
+            let limits: Vec<String> = j
+                .limits_deg
+                .iter()
+                .map(|[a, b]| format!("[{a:.0}°, {b:.0}°]"))
+                .collect();
+            println!("  {:<22} {:<9} {}", j.bone, j.kind, limits.join(" "));
+        }
+    }
+    Ok(0)
+}

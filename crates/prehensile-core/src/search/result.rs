@@ -1,0 +1,227 @@
+//! The search's output (§3.5) as plain data with a documented, versioned JSON form
+//! (`docs/RESULT_SCHEMA.md`). Everything is in metres and radians in the object's frame.
+
+use crate::hand::Joint;
+use crate::math::{Rotation, Transform};
+use crate::workspace::Workspace;
+
+use super::planner::{GraspPlanner, PlannerStatus, SearchStats};
+use super::quality::{Evaluation, QualityTerms, CONTACT_TOLERANCE};
+
+/// Name and version of the result format.
+pub const RESULT_SCHEMA: &str = "prehensile.grasp/1";
+
+/// A rigid pose: position and unit quaternion `[x, y, z, w]`.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct PoseRecord {
+    /// Position, metres.
+    pub position: [f64; 3],
+    /// Rotation as a unit quaternion `[x, y, z, w]`.
+    pub rotation_xyzw: [f64; 4],
+}
+
+impl From<&Transform> for PoseRecord {
+    fn from(t: &Transform) -> Self {
+        let q = t.rotation.quaternion();
+        Self {
+            position: t.translation.vector.into(),
+            rotation_xyzw: [q.i, q.j, q.k, q.w],
+        }
+    }
+}
+
+/// One bone of the grasp pose.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct BoneRecord {
+    /// Bone name.
+    pub name: String,
+    /// Finger name, none for the root.
+    pub finger: Option<String>,
+    /// World pose of the bone's frame.
+    pub pose: PoseRecord,
+    /// Interpolation reached in finger closing (0..=N).
+    pub reached: u32,
+    /// Fraction of the movement reached (refined, 0..=1).
+    pub fraction: f64,
+    /// Whether the bone stopped because it touched the object.
+    pub stopped_by_contact: bool,
+}
+
+/// One capsule of the hand in the grasp pose.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct CapsuleRecord {
+    /// Bone it belongs to.
+    pub bone: String,
+    /// Finger, `"palm"` for the root's capsules.
+    pub finger: String,
+    /// First end, world.
+    pub a: [f64; 3],
+    /// Second end, world.
+    pub b: [f64; 3],
+    /// Radius.
+    pub radius: f64,
+    /// Within 1 mm of the object's surface.
+    pub touching: bool,
+}
+
+/// One joint degree of freedom.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct JointRecord {
+    /// `bone.flexion`, `bone.abduction`, or `bone.x|y|z` for ball joints.
+    pub name: String,
+    /// Angle, radians.
+    pub angle: f64,
+}
+
+/// A grasp found by the search, or the best attempt with the reason it is not valid.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct GraspResult {
+    /// Always [`RESULT_SCHEMA`].
+    pub schema: &'static str,
+    /// Hand name.
+    pub hand: String,
+    /// Object name.
+    pub object: String,
+    /// Movement name.
+    pub movement: String,
+    /// Whether this is a valid grasp (see `docs/RESULT_SCHEMA.md`).
+    pub valid: bool,
+    /// Why not, when not.
+    pub invalid_reason: Option<String>,
+    /// Planner status when the result was taken.
+    pub status: PlannerStatus,
+    /// The hook, world.
+    pub hook: [f64; 3],
+    /// The shoulder, world.
+    pub shoulder: [f64; 3],
+    /// Hook rotation `[x, y, z, w]`.
+    pub hook_rotation_xyzw: [f64; 4],
+    /// Back-off of the grasp center from the hook along the hook's −y, metres (= gDist).
+    pub offset: f64,
+    /// Quality; absent when −∞.
+    pub quality: Option<f64>,
+    /// Every quality term.
+    pub terms: QualityTerms,
+    /// Names of the fingers touching the object.
+    pub fingers_touching: Vec<String>,
+    /// Wrist (root bone) pose.
+    pub wrist: PoseRecord,
+    /// Every bone.
+    pub bones: Vec<BoneRecord>,
+    /// Every joint angle by name.
+    pub joints: Vec<JointRecord>,
+    /// Every capsule.
+    pub capsules: Vec<CapsuleRecord>,
+    /// Search statistics.
+    pub stats: SearchStats,
+}
+
+impl GraspResult {
+    /// The planner's best valid pose, or its current pose (marked invalid) if it has none.
+    pub fn from_planner(planner: &GraspPlanner, ws: &mut Workspace) -> Self {
+        let chosen = planner.best().unwrap_or(planner.current()).clone();
+        let again = planner.pose(&chosen, ws);
+        Self::from_pose(planner, &again, ws)
+    }
+
+    /// Builds the result for evaluation `e` whose pose is in `ws`.
+    fn from_pose(planner: &GraspPlanner, e: &Evaluation, ws: &Workspace) -> Self {
+        let ctx = planner.context();
+        let hand = ctx.hand;
+        let finger_name = |b: usize| {
+            hand.bones()[b]
+                .finger
+                .map(|f| hand.fingers()[f].name.clone())
+        };
+        let q = e.rotation.quaternion();
+        let capsules: Vec<CapsuleRecord> = ws
+            .capsules
+            .iter()
+            .zip(hand.capsules())
+            .map(|(c, model)| CapsuleRecord {
+                bone: hand.bones()[model.bone].name.clone(),
+                finger: finger_name(model.bone).unwrap_or_else(|| "palm".into()),
+                a: c.a.into(),
+                b: c.b.into(),
+                radius: c.radius,
+                touching: ctx.object.collider().exact().segment_within(
+                    &c.a,
+                    &c.b,
+                    c.radius + CONTACT_TOLERANCE,
+                ),
+            })
+            .collect();
+        let mut fingers_touching: Vec<String> = Vec::new();
+        for c in &capsules {
+            if c.touching && c.finger != "palm" && !fingers_touching.contains(&c.finger) {
+                fingers_touching.push(c.finger.clone());
+            }
+        }
+        Self {
+            schema: RESULT_SCHEMA,
+            hand: hand.name().to_string(),
+            object: ctx.object.name().to_string(),
+            movement: ctx.movement.name().to_string(),
+            valid: e.validity.is_ok(),
+            invalid_reason: e.validity.as_ref().err().map(|r| r.to_string()),
+            status: planner.status(),
+            hook: ctx.hook.into(),
+            shoulder: ctx.shoulder.into(),
+            hook_rotation_xyzw: [q.i, q.j, q.k, q.w],
+            offset: e.offset,
+            quality: e.quality.is_finite().then_some(e.quality),
+            terms: e.terms,
+            fingers_touching,
+            wrist: PoseRecord::from(&ws.world[0]),
+            bones: hand
+                .bones()
+                .iter()
+                .enumerate()
+                .map(|(i, b)| BoneRecord {
+                    name: b.name.clone(),
+                    finger: finger_name(i),
+                    pose: PoseRecord::from(&ws.world[i]),
+                    reached: ws.reached[i],
+                    fraction: ws.fraction[i],
+                    stopped_by_contact: ws.touching[i],
+                })
+                .collect(),
+            joints: joint_records(hand, &ws.rotations),
+            capsules,
+            stats: planner.stats(),
+        }
+    }
+}
+
+/// Joint angles recovered from each bone's joint rotation.
+fn joint_records(hand: &crate::hand::HandModel, rotations: &[Rotation]) -> Vec<JointRecord> {
+    let mut out = Vec::new();
+    for (bone, r) in hand.bones().iter().zip(rotations) {
+        let mut push = |suffix: &str, angle: f64| {
+            out.push(JointRecord {
+                name: format!("{}.{suffix}", bone.name),
+                angle,
+            })
+        };
+        match bone.joint {
+            Joint::Fixed => {}
+            Joint::Hinge { .. } => {
+                // Rotation about −x: the signed angle of its scaled axis along −x.
+                push("flexion", -r.scaled_axis().x);
+            }
+            Joint::TwoAxis { .. } => {
+                // R = Ry(abduction)·R−x(flexion) sends z to (sin a cos f, sin f, cos a cos f).
+                let z = r * crate::math::Vec3::z();
+                push("flexion", z.y.clamp(-1.0, 1.0).asin());
+                push("abduction", z.x.atan2(z.z));
+            }
+            Joint::Ball { .. } => {
+                let v = r.scaled_axis();
+                push("x", v.x);
+                push("y", v.y);
+                push("z", v.z);
+            }
+        }
+    }
+    out
+}
