@@ -191,22 +191,103 @@ impl TriangleMesh {
         (volume, centroid)
     }
 
+    /// Indices of (near) zero-area triangles: area below 1e-12 of the squared bounding diagonal or
+    /// 1e-9 of the squared longest edge.
+    pub fn degenerate_triangles(&self) -> Vec<usize> {
+        let (lo, hi) = self.bounds();
+        let diag = (hi - lo).norm();
+        (0..self.triangles.len())
+            .filter(|&t| {
+                let [a, b, c] = self.corners(t);
+                let area2 = (b - a).cross(&(c - a)).norm();
+                let longest = (b - a).norm().max((c - b).norm()).max((a - c).norm());
+                area2 <= 1e-12 * diag * diag || area2 <= 1e-9 * longest * longest
+            })
+            .collect()
+    }
+
+    /// Removes zero-area triangles without changing the shape: a triangle with a repeated vertex
+    /// is dropped (its two neighbours then share the edge); a sliver whose middle vertex lies on
+    /// its longest edge is dropped and the neighbour across that edge is split at the middle
+    /// vertex. A closed, manifold, consistently wound mesh stays so. Returns the repaired mesh
+    /// and how many triangles were removed.
+    pub fn remove_degenerate_triangles(&self) -> (Self, usize) {
+        let mut mesh = self.clone();
+        let mut removed = 0;
+        for _pass in 0..8 {
+            let bad = mesh.degenerate_triangles();
+            if bad.is_empty() {
+                break;
+            }
+            let mut dead = vec![false; mesh.triangles.len()];
+            let mut added: Vec<[u32; 3]> = Vec::new();
+            let mut directed: HashMap<(u32, u32), usize> = HashMap::new();
+            for (t, tri) in mesh.triangles.iter().enumerate() {
+                for k in 0..3 {
+                    directed.insert((tri[k], tri[(k + 1) % 3]), t);
+                }
+            }
+            for t in bad {
+                if dead[t] {
+                    continue;
+                }
+                let tri = mesh.triangles[t];
+                if tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0] {
+                    dead[t] = true;
+                    removed += 1;
+                    continue;
+                }
+                // Longest edge (a, b) and the middle vertex c.
+                let k = (0..3)
+                    .max_by(|&i, &j| {
+                        let len = |e: usize| {
+                            (mesh.vertices[tri[e] as usize]
+                                - mesh.vertices[tri[(e + 1) % 3] as usize])
+                                .norm()
+                        };
+                        len(i).total_cmp(&len(j))
+                    })
+                    .expect("three edges");
+                let (a, b, c) = (tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3]);
+                let Some(&n) = directed.get(&(b, a)) else {
+                    continue;
+                };
+                if dead[n] || n == t {
+                    continue;
+                }
+                let nt = mesh.triangles[n];
+                let x = *nt
+                    .iter()
+                    .find(|&&v| v != a && v != b)
+                    .expect("a triangle has a third vertex");
+                dead[t] = true;
+                dead[n] = true;
+                added.push([b, c, x]);
+                added.push([c, a, x]);
+                removed += 1;
+            }
+            let mut kept: Vec<[u32; 3]> = mesh
+                .triangles
+                .iter()
+                .enumerate()
+                .filter(|(t, _)| !dead[*t])
+                .map(|(_, tri)| *tri)
+                .collect();
+            kept.extend(added);
+            mesh.triangles = kept;
+        }
+        (mesh, removed)
+    }
+
     /// Checks topology and geometry: closed, manifold, consistently wound, no degenerate
     /// triangles, positive volume. Every defect names where it is and how to fix it.
     pub fn report(&self) -> MeshReport {
         let (lo, hi) = self.bounds();
         let size = hi - lo;
-        let diag = size.norm();
         // Directed edge -> count, to find boundary, non-manifold and flipped edges.
         let mut edges: HashMap<(u32, u32), (u32, u32)> = HashMap::new();
-        let mut degenerate = Vec::new();
-        for (t, tri) in self.triangles.iter().enumerate() {
-            let [a, b, c] = self.corners(t);
-            let area2 = (b - a).cross(&(c - a)).norm();
-            let longest = (b - a).norm().max((c - b).norm()).max((a - c).norm());
-            if area2 <= 1e-12 * diag * diag || area2 <= 1e-9 * longest * longest {
-                degenerate.push(t);
-            }
+        let degenerate = self.degenerate_triangles();
+        for tri in &self.triangles {
             for k in 0..3 {
                 let (u, v) = (tri[k], tri[(k + 1) % 3]);
                 let key = (u.min(v), u.max(v));
@@ -258,7 +339,7 @@ impl TriangleMesh {
         }
         if !degenerate.is_empty() {
             defects.push(format!(
-                "{} degenerate (zero-area) triangles, first is triangle {}; remove them or merge their vertices",
+                "{} degenerate (zero-area) triangles, first is triangle {}; remove them in your modeller (prehensile grasp removes them itself by splitting neighbours, shape unchanged)",
                 degenerate.len(),
                 degenerate[0]
             ));
@@ -360,6 +441,46 @@ mod tests {
         v3.push(Point3::new(0.5, 0.0, 0.0));
         let r = TriangleMesh::weld(&v3, &t2).unwrap().report();
         assert_eq!(r.degenerate_triangles, 1);
+    }
+
+    #[test]
+    fn slivers_are_removed_and_the_mesh_stays_closed() {
+        // A square pyramid whose base edge 0-1 carries a sliver (0, 1, 5) with vertex 5 on it:
+        // the base triangle (1, 0, 2)... built as a closed mesh by hand.
+        let v = vec![
+            Point3::new(0.0, 0.0, 0.0),
+            Point3::new(1.0, 0.0, 0.0),
+            Point3::new(1.0, 1.0, 0.0),
+            Point3::new(0.0, 1.0, 0.0),
+            Point3::new(0.5, 0.5, 1.0),
+            Point3::new(0.5, 0.0, 0.0),
+        ];
+        // Side 0-1 is split at 5 on the side face, but the base still uses edge 1-0 whole, and the
+        // sliver (0, 5, 1) seen from below closes the crack.
+        let t = vec![
+            [0, 5, 4],
+            [5, 1, 4],
+            [1, 2, 4],
+            [2, 3, 4],
+            [3, 0, 4],
+            [0, 2, 1],
+            [0, 3, 2],
+            [0, 1, 5],
+        ];
+        let m = TriangleMesh::weld(&v, &t).unwrap();
+        let r = m.report();
+        assert_eq!(r.degenerate_triangles, 1, "{:?}", r.defects);
+        assert_eq!(
+            r.boundary_edges + r.non_manifold_edges + r.inconsistent_edges,
+            0,
+            "{:?}",
+            r.defects
+        );
+        let (fixed, removed) = m.remove_degenerate_triangles();
+        assert_eq!(removed, 1);
+        let r2 = fixed.report();
+        assert!(r2.defects.is_empty(), "{:?}", r2.defects);
+        assert!((r2.volume - r.volume).abs() < 1e-12);
     }
 
     #[test]

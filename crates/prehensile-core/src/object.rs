@@ -37,17 +37,36 @@ pub struct ObjectModel {
     center_of_mass: Point3,
     hooks: Vec<Point3>,
     collider: MeshCollider,
+    repairs: Vec<String>,
 }
 
 impl ObjectModel {
     /// Checks the mesh (closed, manifold, consistent, no degenerate triangles, plausible size),
     /// computes its mass properties and builds its colliders. Hooks default to the centre of mass.
+    ///
+    /// Zero-area triangles are removed without changing the shape when they are the only defect
+    /// (see [`TriangleMesh::remove_degenerate_triangles`]); [`ObjectModel::repairs`] says so.
     pub fn new(
         name: &str,
         mesh: TriangleMesh,
         hooks: Option<Vec<Point3>>,
     ) -> Result<Self, ObjectError> {
-        let report = mesh.report();
+        let mut report = mesh.report();
+        let mut mesh = mesh;
+        let mut repairs = Vec::new();
+        let only_slivers = report.degenerate_triangles > 0
+            && report.boundary_edges + report.non_manifold_edges + report.inconsistent_edges == 0;
+        if only_slivers {
+            let (fixed, removed) = mesh.remove_degenerate_triangles();
+            let fixed_report = fixed.report();
+            if fixed_report.defects.is_empty() {
+                repairs.push(format!(
+                    "removed {removed} zero-area triangle(s) by splitting their neighbours; the shape is unchanged"
+                ));
+                mesh = fixed;
+                report = fixed_report;
+            }
+        }
         let size = report.size.iter().copied().fold(0.0, f64::max);
         if !(MIN_OBJECT_SIZE..=MAX_OBJECT_SIZE).contains(&size) {
             return Err(ObjectError::AbsurdSize { size });
@@ -71,7 +90,13 @@ impl ObjectModel {
             center_of_mass,
             hooks,
             collider,
+            repairs,
         })
+    }
+
+    /// What was repaired when the object was built (empty when nothing was).
+    pub fn repairs(&self) -> &[String] {
+        &self.repairs
     }
 
     /// The same object with other hooks.

@@ -22,7 +22,7 @@ use super::wrist_range::WristRange;
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(tag = "kind", rename_all = "kebab-case")]
 pub enum StopRule {
-    /// No better pose for this many consecutive steps.
+    /// No better pose for this many consecutive steps, once a valid grasp has been found.
     NoImprovement {
         /// Steps without improvement.
         steps: u32,
@@ -293,7 +293,10 @@ impl<'a> GraspPlanner<'a> {
                 .take()
                 .expect("every candidate was evaluated");
             self.consider_best(&e);
-            if e.quality > self.current.quality {
+            // Beyond the thesis: a valid grasp beats an invalid one whatever their qualities.
+            if (e.validity.is_ok(), e.quality)
+                > (self.current.validity.is_ok(), self.current.quality)
+            {
                 self.current = e;
                 improved = true;
             }
@@ -305,7 +308,10 @@ impl<'a> GraspPlanner<'a> {
         };
         self.status = match self.params.stop {
             StopRule::ThesisLocalMaximum if !improved => PlannerStatus::Converged,
-            StopRule::NoImprovement { steps } if self.since_improvement >= steps => {
+            // Without a valid grasp yet, keep exploring up to the step limit.
+            StopRule::NoImprovement { steps }
+                if self.since_improvement >= steps && self.best_valid.is_some() =>
+            {
                 PlannerStatus::Converged
             }
             _ if self.stats.steps >= self.params.max_steps => PlannerStatus::StepLimit,
