@@ -1,0 +1,178 @@
+//! The `prehensile` binary as a user runs it.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn prehensile(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_prehensile"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn asset(name: &str) -> String {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../assets")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("prehensile-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+#[test]
+fn check_reports_a_closed_mesh_and_exits_zero() {
+    let out = prehensile(&["check", &asset("objects/robosuite_can.obj"), "--json"]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(report["boundary_edges"], 0);
+    assert_eq!(report["triangles"], 956);
+    assert!(report["volume"].as_f64().unwrap() > 1e-4);
+}
+
+#[test]
+fn check_names_the_defect_of_an_open_mesh_and_exits_two() {
+    let out = prehensile(&["check", &asset("objects/robosuite_bottle.stl")]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("6 non-manifold edges") && err.contains("first at vertices 24–26"),
+        "{err}"
+    );
+    assert!(err.contains("robosuite_bottle.stl"), "{err}");
+}
+
+#[test]
+fn bad_files_exit_two_with_a_reason() {
+    let truncated = scratch("half.stl");
+    let bytes = std::fs::read(asset("objects/robosuite_lemon.stl")).unwrap();
+    std::fs::write(&truncated, &bytes[..1000]).unwrap();
+    let out = prehensile(&["check", truncated.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        text(&out.stderr).contains("truncated"),
+        "{}",
+        text(&out.stderr)
+    );
+    let out = prehensile(&["grasp", "--object", "teapot"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        text(&out.stderr).contains("sphere, box, cylinder, torus, mug"),
+        "{}",
+        text(&out.stderr)
+    );
+    let out = prehensile(&["grasp", "--shoulder", "1,2"]);
+    assert_eq!(out.status.code(), Some(2));
+    let out = prehensile(&["grasp", "--budget-ms", "-3"]);
+    assert_eq!(out.status.code(), Some(2));
+    let out = prehensile(&["grasp", "--movement", "karate"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        text(&out.stderr).contains("power, precision, close"),
+        "{}",
+        text(&out.stderr)
+    );
+    let out = prehensile(&["grasp", "--object", "box", "--scale", "30"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        text(&out.stderr).contains("cannot be grasped with one hand"),
+        "{}",
+        text(&out.stderr)
+    );
+}
+
+#[test]
+fn hands_lists_the_builtins() {
+    let out = prehensile(&["hands", "--json"]);
+    assert_eq!(out.status.code(), Some(0));
+    let hands: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let names: Vec<&str> = hands
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|h| h["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["human", "robot3", "cartoon4"]);
+    assert_eq!(hands[0]["capsules"], 24);
+    let out = prehensile(&["hands", "--file", &asset("hands/robot3.toml")]);
+    assert_eq!(out.status.code(), Some(0));
+    assert!(text(&out.stdout).contains("opposing_tip"));
+}
+
+#[test]
+fn grasp_writes_a_result_an_independent_program_can_check() {
+    let json = scratch("mug.json");
+    let svg = scratch("mug.svg");
+    let out = prehensile(&[
+        "grasp",
+        "--hand",
+        "human",
+        "--object",
+        "mug",
+        "--movement",
+        "power",
+        "--seed",
+        "3",
+        "--out",
+        json.to_str().unwrap(),
+        "--svg",
+        svg.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(r["schema"], "prehensile.grasp/1");
+    assert_eq!(r["valid"], true);
+    let capsules = r["capsules"].as_array().unwrap();
+    assert_eq!(capsules.len(), 24);
+    for key in ["bone", "finger", "a", "b", "radius", "touching"] {
+        assert!(capsules[0].get(key).is_some(), "capsule lacks {key}");
+    }
+    let fingers: Vec<&str> = capsules
+        .iter()
+        .map(|c| c["finger"].as_str().unwrap())
+        .collect();
+    for f in ["thumb", "index", "middle", "ring", "little", "palm"] {
+        assert!(fingers.contains(&f), "{f}");
+    }
+    assert!(std::fs::read_to_string(&svg).unwrap().starts_with("<svg"));
+}
+
+#[test]
+fn grasp_is_reproducible_with_a_seed() {
+    let run = || {
+        let out = prehensile(&[
+            "grasp",
+            "--object",
+            "torus",
+            "--movement",
+            "precision",
+            "--seed",
+            "9",
+        ]);
+        let mut r: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        r["stats"]["seconds"] = serde_json::Value::Null;
+        r
+    };
+    assert_eq!(run(), run());
+}
+
+#[test]
+fn demo_writes_results_and_a_gallery() {
+    let dir = scratch("demo");
+    let out = prehensile(&["demo", "--out", dir.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let table = text(&out.stdout);
+    assert!(table.contains("human") && table.contains("mug"), "{table}");
+    assert!(dir.join("index.html").exists());
+    assert!(dir.join("cartoon4-torus.json").exists());
+    assert!(dir.join("robot3-sphere.svg").exists());
+}

@@ -1,0 +1,163 @@
+//! Bad hand files: every error names what and where, and nothing panics.
+
+use prehensile_formats::{builtin_hand, parse_hand_toml};
+
+/// A valid two-finger claw; tests break one thing at a time.
+const CLAW: &str = r#"
+name = "claw"
+[[bones]]
+name = "palm"
+origin = [0.0, 0.0, 0.0]
+radius = 0.02
+[[bones]]
+name = "a_base"
+parent = "palm"
+origin = [-0.02, 0.0, 0.06]
+radius = 0.01
+joint = { kind = "hinge", flexion = [0.0, 90.0] }
+[[bones]]
+name = "a_tip"
+parent = "a_base"
+origin = [-0.02, 0.0, 0.10]
+tip = [-0.02, 0.0, 0.14]
+radius = 0.009
+joint = { kind = "hinge", flexion = [0.0, 90.0] }
+[[bones]]
+name = "b_base"
+parent = "palm"
+origin = [0.02, 0.0, 0.06]
+radius = 0.01
+joint = { kind = "two-axis", flexion = [0.0, 90.0], abduction = [-10.0, 10.0] }
+[[bones]]
+name = "b_tip"
+parent = "b_base"
+origin = [0.02, 0.0, 0.10]
+tip = [0.02, 0.0, 0.14]
+radius = 0.009
+joint = { kind = "hinge", flexion = [0.0, 90.0] }
+"#;
+
+fn error_of(text: &str) -> String {
+    parse_hand_toml(text, "claw.toml").unwrap_err().to_string()
+}
+
+#[test]
+fn the_claw_is_valid() {
+    let hand = parse_hand_toml(CLAW, "claw.toml").unwrap();
+    assert_eq!(hand.fingers().len(), 2);
+    assert_eq!(hand.capsules().len(), 2 + 4);
+    assert_eq!(hand.dof_count(), 5);
+}
+
+#[test]
+fn cycle_is_named() {
+    let text = CLAW.replace(
+        "name = \"a_base\"\nparent = \"palm\"",
+        "name = \"a_base\"\nparent = \"a_tip\"",
+    );
+    let e = error_of(&text);
+    assert!(
+        e.contains("cycle") && (e.contains("a_base") || e.contains("a_tip")),
+        "{e}"
+    );
+}
+
+#[test]
+fn missing_parent_is_named() {
+    let e = error_of(&CLAW.replace("parent = \"a_base\"", "parent = \"a_bse\""));
+    assert!(e.contains("a_tip") && e.contains("a_bse"), "{e}");
+}
+
+#[test]
+fn zero_length_bone_is_named() {
+    let e = error_of(&CLAW.replace("tip = [-0.02, 0.0, 0.14]", "tip = [-0.02, 0.0, 0.10]"));
+    assert!(e.contains("a_tip") && e.contains("length"), "{e}");
+}
+
+#[test]
+fn bad_numbers_are_named() {
+    let e = error_of(&CLAW.replace("radius = 0.009\njoint = { kind = \"hinge\", flexion = [0.0, 90.0] }\n[[bones]]\nname = \"b_base\"", "radius = -0.009\njoint = { kind = \"hinge\", flexion = [0.0, 90.0] }\n[[bones]]\nname = \"b_base\""));
+    assert!(e.contains("a_tip") && e.contains("radius"), "{e}");
+    let e = error_of(&CLAW.replace("origin = [0.02, 0.0, 0.06]", "origin = [nan, 0.0, 0.06]"));
+    assert!(e.contains("b_base") && e.contains("finite"), "{e}");
+    let e = error_of(&CLAW.replace("abduction = [-10.0, 10.0]", "abduction = [10.0, -10.0]"));
+    assert!(e.contains("b_base") && e.contains("not ordered"), "{e}");
+}
+
+#[test]
+fn structure_errors_are_named() {
+    // Two roots.
+    let e = error_of(&CLAW.replace("name = \"b_base\"\nparent = \"palm\"", "name = \"b_base\""));
+    assert!(e.contains("exactly one root"), "{e}");
+    // A finger that branches.
+    let e = error_of(&CLAW.replace(
+        "name = \"b_base\"\nparent = \"palm\"",
+        "name = \"b_base\"\nparent = \"a_base\"",
+    ));
+    assert!(e.contains("a_base") && e.contains("children"), "{e}");
+    // One finger only.
+    let one = CLAW.split("[[bones]]\nname = \"b_base\"").next().unwrap();
+    let e = error_of(one);
+    assert!(e.contains("at least") || e.contains("finger"), "{e}");
+    // Missing tip.
+    let e = error_of(&CLAW.replace("tip = [0.02, 0.0, 0.14]\n", ""));
+    assert!(e.contains("b_tip") && e.contains("tip"), "{e}");
+    // Duplicate names.
+    let e = error_of(&CLAW.replace("name = \"b_tip\"", "name = \"a_tip\""));
+    assert!(e.contains("a_tip") && e.contains("twice"), "{e}");
+}
+
+#[test]
+fn unknown_keys_and_bad_movements_are_named() {
+    let e = parse_hand_toml(
+        &CLAW.replace("radius = 0.02", "radius = 0.02\nradus = 1"),
+        "claw.toml",
+    )
+    .unwrap_err();
+    assert!(e.location.is_some(), "{e}");
+    assert!(e.reason.contains("radus"), "{e}");
+    let moving =
+        format!("{CLAW}\n[[movements]]\nname = \"pinch\"\n[movements.end]\na_base = [120.0]\n");
+    let e = error_of(&moving);
+    assert!(
+        e.contains("pinch") && e.contains("a_base") && e.contains("limits"),
+        "{e}"
+    );
+    let moving =
+        format!("{CLAW}\n[[movements]]\nname = \"pinch\"\n[movements.end]\nb_base = [12.0]\n");
+    let e = error_of(&moving);
+    assert!(e.contains("b_base") && e.contains("angle"), "{e}");
+    let coupled =
+        format!("{CLAW}\n[[couplings]]\nfollower = \"a_tip\"\nleader = \"nobody\"\nratio = 0.5\n");
+    assert!(error_of(&coupled).contains("nobody"));
+}
+
+#[test]
+fn the_human_hand_is_the_thesis_skeleton() {
+    let h = builtin_hand("human").unwrap();
+    assert_eq!(h.bones().len(), 20);
+    assert_eq!(h.capsules().len(), 24, "§6.6: nb = 24");
+    let names: Vec<&str> = h.fingers().iter().map(|f| f.name.as_str()).collect();
+    assert_eq!(names, ["thumb", "index", "middle", "ring", "little"]);
+    assert_eq!(h.fingers()[0].bones.len(), 3);
+    assert!(h.fingers()[1..].iter().all(|f| f.bones.len() == 4));
+    // Parents first.
+    for (i, b) in h.bones().iter().enumerate() {
+        assert!(b.parent.is_none_or(|p| p < i));
+    }
+    // Distal = 2/3 middle in every movement's end pose.
+    let power = h.movement("power").unwrap();
+    let (mid, dist) = (
+        h.bone_index("index_middle").unwrap(),
+        h.bone_index("index_distal").unwrap(),
+    );
+    let a = power.end_angles();
+    let (m, d) = (a[h.bones()[mid].first_dof], a[h.bones()[dist].first_dof]);
+    assert!((d - 0.6667 * m).abs() < 1e-12 && m > 1.0);
+    // Shared start pose (Fig. 5.6).
+    assert_eq!(
+        power.start_angles(),
+        h.movement("precision").unwrap().start_angles()
+    );
+    assert_eq!(h.movement("precision").unwrap().contact_fingers(), &[0, 1]);
+}

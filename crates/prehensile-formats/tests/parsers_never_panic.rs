@@ -1,0 +1,40 @@
+//! Mutated mesh files never panic a parser: they parse or give an error.
+
+use proptest::prelude::*;
+
+const OBJ: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+const PLY: &str = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+
+fn stl() -> Vec<u8> {
+    std::fs::read(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../assets/objects/robosuite_bread.stl"
+    ))
+    .unwrap()
+}
+
+fn mutate(mut bytes: Vec<u8>, edits: &[(usize, u8)], cut: usize) -> Vec<u8> {
+    for &(at, value) in edits {
+        if !bytes.is_empty() {
+            let i = at % bytes.len();
+            bytes[i] = value;
+        }
+    }
+    let keep = bytes.len() - cut % (bytes.len() + 1);
+    bytes.truncate(keep);
+    bytes
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+
+    #[test]
+    fn obj_ply_stl_survive_mutation(edits in proptest::collection::vec((any::<usize>(), any::<u8>()), 0..8), cut in any::<usize>()) {
+        let obj = mutate(OBJ.as_bytes().to_vec(), &edits, cut % 4);
+        let _ = prehensile_formats::parse_obj(&String::from_utf8_lossy(&obj), "m.obj");
+        let ply = mutate(PLY.as_bytes().to_vec(), &edits, cut % 8);
+        let _ = prehensile_formats::parse_ply(&ply, "m.ply");
+        let stl = mutate(stl(), &edits, cut % 64);
+        let _ = prehensile_formats::parse_stl(&stl, "m.stl");
+    }
+}
