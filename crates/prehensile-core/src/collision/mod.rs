@@ -31,6 +31,8 @@ pub struct CollisionCounters {
     pub queries: u64,
     /// Queries the distance grid could not decide and the exact path answered.
     pub exact_fallbacks: u64,
+    /// Hand placements checked by TranslateToFree (the thesis's v, summed).
+    pub placements: u64,
 }
 
 /// Both collision paths for one object.

@@ -204,6 +204,18 @@ impl SignedDistanceGrid {
         gap.norm()
     }
 
+    /// An upper bound on the smallest signed distance along segment `a–b` (+∞ when the grid
+    /// cannot bound it): a capsule of radius `r` around the segment needs to move at least
+    /// `r − bound` to be free of the object.
+    pub fn segment_clearance_upper_bound(&self, a: &Point3, b: &Point3) -> f64 {
+        let length = (b - a).norm();
+        let pieces = ((length / self.spacing).ceil() as usize).max(1);
+        (0..=pieces)
+            .filter_map(|k| self.bounds_at(&(a + (b - a) * (k as f64 / pieces as f64))))
+            .map(|(_, upper)| upper)
+            .fold(f64::INFINITY, f64::min)
+    }
+
     /// Decides from the grid whether capsule `a–b` with `radius` touches or is inside the object.
     pub fn decide(&self, a: &Point3, b: &Point3, radius: f64) -> Decision {
         if self.box_gap(a, b) > radius {
@@ -219,12 +231,19 @@ impl SignedDistanceGrid {
                 return Decision::Free;
             }
         }
-        // Sample the segment at about the grid spacing.
-        let pieces = ((2.0 * half / self.spacing).ceil() as usize).max(1);
-        let reach = half / pieces as f64;
+        // Walk the segment. A sample whose lower bound exceeds the radius by g clears every point
+        // within g of it (the distance is 1-Lipschitz), so the walk leaps g ahead (sphere
+        // tracing); an undecided sample moves one grid spacing on.
+        let length = 2.0 * half;
+        let direction = if length > 0.0 {
+            (b - a) / length
+        } else {
+            Vec3::zeros()
+        };
         let mut all_free = true;
-        for k in 0..=pieces {
-            let p = a + (b - a) * (k as f64 / pieces as f64);
+        let mut t = 0.0;
+        loop {
+            let p = a + direction * t;
             // Outside the grid only the gap to the mesh's box bounds the distance.
             let (lower, upper) = self
                 .bounds_at(&p)
@@ -232,9 +251,17 @@ impl SignedDistanceGrid {
             if upper <= radius {
                 return Decision::Touches;
             }
-            if lower - reach <= radius {
+            let clear = lower - radius;
+            let advance = if clear > 0.25 * self.spacing {
+                clear
+            } else {
                 all_free = false;
+                self.spacing
+            };
+            if t >= length {
+                break;
             }
+            t = (t + advance).min(length);
         }
         if all_free {
             Decision::Free

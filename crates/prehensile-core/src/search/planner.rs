@@ -140,6 +140,8 @@ pub struct SearchStats {
     pub collision_queries: u64,
     /// Queries answered by the exact path.
     pub exact_fallbacks: u64,
+    /// Hand placements checked by TranslateToFree.
+    pub placements: u64,
     /// Restarts after the character turned.
     pub restarts: u32,
     /// Time spent searching, seconds.
@@ -265,6 +267,7 @@ impl<'a> GraspPlanner<'a> {
         for ws in &mut self.workspaces {
             self.stats.collision_queries += ws.counters.queries;
             self.stats.exact_fallbacks += ws.counters.exact_fallbacks;
+            self.stats.placements += ws.counters.placements;
             ws.counters = Default::default();
         }
     }
@@ -461,7 +464,8 @@ fn check_params(p: &SearchParams, shoulder: &Point3) -> Result<(), SearchError> 
     }
     let steps_ok = match p.translate {
         TranslateMode::Steps { step } => step.is_finite() && step > 1e-6,
-        TranslateMode::Bisection { coarse, precision } => {
+        TranslateMode::Bisection { coarse, precision }
+        | TranslateMode::DistanceBound { coarse, precision } => {
             coarse.is_finite()
                 && precision.is_finite()
                 && coarse > 1e-6

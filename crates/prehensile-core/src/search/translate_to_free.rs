@@ -37,6 +37,7 @@ pub fn start_pose_touches(
     root: &Transform,
     ws: &mut Workspace,
 ) -> bool {
+    ws.counters.placements += 1;
     ws.rotations.copy_from_slice(movement.start_rotations());
     forward_kinematics(hand, root, &ws.rotations, &mut ws.world);
     hand.capsules().iter().any(|c| {
@@ -68,11 +69,21 @@ pub enum TranslateMode {
         /// Final precision, metres.
         precision: f64,
     },
+    /// As `Bisection`, but each jump is at least a lower bound of the distance still to go:
+    /// moving the hand by δ changes every capsule's clearance by at most δ, so a touching capsule
+    /// whose clearance is at most `u` (bounded by the distance grid) needs δ ≥ radius − u. Deep
+    /// contacts are left in one jump instead of many coarse steps.
+    DistanceBound {
+        /// Smallest jump, metres.
+        coarse: f64,
+        /// Final precision, metres.
+        precision: f64,
+    },
 }
 
 impl Default for TranslateMode {
     fn default() -> Self {
-        TranslateMode::Bisection {
+        TranslateMode::DistanceBound {
             coarse: 0.004,
             precision: 0.00025,
         }
@@ -94,30 +105,51 @@ pub fn translate_to_free(
         let root = hand_root(hook, movement, offset);
         start_pose_touches(hand, object, movement, &root, ws)
     };
-    let step = match mode {
-        TranslateMode::Steps { step } => step,
-        TranslateMode::Bisection { coarse, .. } => coarse,
-    };
     let mut offset = 0.0;
+    let mut last_touching = None;
     while touches(offset, ws) {
-        offset += step;
+        let jump = match mode {
+            TranslateMode::Steps { step } => step,
+            TranslateMode::Bisection { coarse, .. } => coarse,
+            TranslateMode::DistanceBound { coarse, .. } => {
+                coarse.max(distance_still_to_go(hand, object, ws))
+            }
+        };
+        last_touching = Some(offset);
+        offset += jump;
         if offset > max_offset {
             return None;
         }
     }
-    if let TranslateMode::Bisection { precision, .. } = mode {
-        if offset > 0.0 {
-            let (mut lo, mut hi) = (offset - step, offset);
-            while hi - lo > precision {
-                let mid = 0.5 * (lo + hi);
-                if touches(mid, ws) {
-                    lo = mid;
-                } else {
-                    hi = mid;
-                }
+    let precision = match mode {
+        TranslateMode::Steps { .. } => return Some(offset),
+        TranslateMode::Bisection { precision, .. }
+        | TranslateMode::DistanceBound { precision, .. } => precision,
+    };
+    if let Some(mut lo) = last_touching {
+        let mut hi = offset;
+        while hi - lo > precision {
+            let mid = 0.5 * (lo + hi);
+            if touches(mid, ws) {
+                lo = mid;
+            } else {
+                hi = mid;
             }
-            offset = hi;
         }
+        offset = hi;
     }
     Some(offset)
+}
+
+/// A lower bound on how far the hand, posed in `ws`, must still move to be free: the largest
+/// `radius − clearance upper bound` over its capsules.
+fn distance_still_to_go(hand: &HandModel, object: &ObjectModel, ws: &Workspace) -> f64 {
+    let grid = object.collider().grid();
+    hand.capsules()
+        .iter()
+        .map(|c| {
+            let w = ws.world[c.bone];
+            c.radius - grid.segment_clearance_upper_bound(&(w * c.a), &(w * c.b))
+        })
+        .fold(0.0, f64::max)
 }

@@ -1,0 +1,136 @@
+//! The thesis's timing table (§6.6, combinations a–h of P, v and N) and whole grasps.
+//!
+//! Run: `cargo bench -p prehensile-core --bench search`. The thesis's v (TranslateToFree
+//! placements per pose) is set through the step length; the realised mean is printed.
+
+use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
+use prehensile_core::finger_closing::ClosingParams;
+use prehensile_core::math::Point3;
+use prehensile_core::search::{GraspPlanner, SearchParams, StepKind, TranslateMode};
+use prehensile_core::{shapes, HandModel, ObjectModel};
+
+fn torus16k() -> ObjectModel {
+    ObjectModel::new("torus16k", shapes::torus(0.045, 0.014, 128, 64), None).unwrap()
+}
+
+const SHOULDER: [f64; 3] = [-0.35, -0.2, 0.35];
+
+fn params(step: StepKind, translate_step: f64, n: u32, seed: u64) -> SearchParams {
+    SearchParams {
+        step,
+        seed,
+        translate: TranslateMode::Steps {
+            step: translate_step,
+        },
+        closing: ClosingParams {
+            interpolations: n,
+            ..Default::default()
+        },
+        ..Default::default()
+    }
+}
+
+/// Mean placements per evaluated pose and queries per step over 40 steps from 10 seeds.
+fn counts(hand: &HandModel, object: &ObjectModel, p: &SearchParams) -> (f64, f64) {
+    let movement = hand.movement("power").unwrap();
+    let (mut placements, mut evaluations, mut queries, mut steps) = (0u64, 0u64, 0u64, 0u64);
+    for seed in 0..10 {
+        let mut planner = GraspPlanner::new(
+            hand,
+            object,
+            movement,
+            Point3::from(SHOULDER),
+            SearchParams { seed, ..p.clone() },
+        )
+        .unwrap();
+        let before = planner.stats();
+        for _ in 0..4 {
+            planner.step();
+        }
+        let after = planner.stats();
+        placements += after.placements - before.placements;
+        evaluations += after.evaluations - before.evaluations;
+        queries += after.collision_queries - before.collision_queries;
+        steps += (after.steps - before.steps) as u64;
+    }
+    (
+        placements as f64 / evaluations.max(1) as f64,
+        queries as f64 / steps.max(1) as f64,
+    )
+}
+
+fn bench(c: &mut Criterion) {
+    let hand = prehensile_formats::builtin_hand("human").unwrap();
+    let object = torus16k();
+    let movement = hand.movement("power").unwrap();
+    // (name, P, v target -> step length, N, the thesis's T_AVG in ms)
+    let table = [
+        ("a", StepKind::SevenPose, 7, 10, 11.0),
+        ("b", StepKind::SevenPose, 7, 20, 17.0),
+        ("c", StepKind::SevenPose, 10, 10, 13.0),
+        ("d", StepKind::SevenPose, 10, 20, 19.5),
+        ("e", StepKind::Unidirectional, 7, 10, 5.5),
+        ("f", StepKind::Unidirectional, 7, 20, 9.5),
+        ("g", StepKind::Unidirectional, 10, 10, 6.5),
+        ("h", StepKind::Unidirectional, 10, 20, 9.5),
+    ];
+    // Step lengths that give about 7 and 10 placements per pose on this object.
+    let step_for_v = |v: u32| if v == 7 { 0.0045 } else { 0.003 };
+    let mut group = c.benchmark_group("thesis_table_step");
+    for (name, kind, v, n, thesis_ms) in table {
+        let p = params(kind, step_for_v(v), n, 0);
+        let (v_real, queries) = counts(&hand, &object, &p);
+        eprintln!(
+            "{name}: P={} v={v} (measured {v_real:.1}) N={n}: {queries:.0} capsule queries per step (thesis model P*nb*(v+N) = {}), thesis T_AVG {thesis_ms} ms",
+            kind.poses(),
+            kind.poses() as u32 * 24 * (v + n)
+        );
+        let mut seed = 0;
+        group.bench_function(format!("{name}_P{}_v{v}_N{n}", kind.poses()), |b| {
+            b.iter_batched(
+                || {
+                    seed += 1;
+                    GraspPlanner::new(
+                        &hand,
+                        &object,
+                        movement,
+                        Point3::from(SHOULDER),
+                        params(kind, step_for_v(v), n, seed),
+                    )
+                    .unwrap()
+                },
+                |mut planner| planner.step(),
+                BatchSize::SmallInput,
+            )
+        });
+    }
+    group.finish();
+
+    let mut group = c.benchmark_group("whole_grasp");
+    let sphere =
+        ObjectModel::new("sphere", shapes::builtin_object("sphere").unwrap(), None).unwrap();
+    for (label, obj) in [("torus16k", &object), ("sphere", &sphere)] {
+        let mut seed = 0;
+        group.bench_function(format!("human_power_{label}_start_to_converged"), |b| {
+            b.iter(|| {
+                seed += 1;
+                let p = SearchParams {
+                    seed,
+                    ..Default::default()
+                };
+                let mut planner =
+                    GraspPlanner::new(&hand, obj, movement, Point3::from(SHOULDER), p).unwrap();
+                planner.run_to_end();
+                planner.stats().steps
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(20).measurement_time(std::time::Duration::from_secs(3));
+    targets = bench
+}
+criterion_main!(benches);
