@@ -2,7 +2,9 @@
 //!
 //! Run: `cargo bench -p prehensile-core --bench collision`
 
-use criterion::{black_box, criterion_group, criterion_main, Criterion};
+use std::hint::black_box;
+
+use criterion::{criterion_group, criterion_main, Criterion};
 use prehensile_core::finger_closing::{close_fingers, ClosingParams};
 use prehensile_core::math::{Point3, Transform, Vec3};
 use prehensile_core::search::random::SplitMix64;
