@@ -21,7 +21,7 @@ pub enum Command {
     /// List the built-in hands, or describe a hand file.
     Hands(HandsArgs),
     /// Search a grasp pose for one hand and one object.
-    Grasp(GraspArgs),
+    Grasp(Box<GraspArgs>),
     /// Grasp every built-in object with every built-in hand and write the results to a folder.
     Demo(DemoArgs),
 }
@@ -77,6 +77,10 @@ pub struct GraspArgs {
     /// Seed of the random search angles.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Quality weights G,F,T,W for gDist, fDist, tDist* and wDist (default: 5,1,0,1 for movements
+    /// without contact fingers, Eq. 5.1; 5,0,1,1 for those with, Eq. 5.2).
+    #[arg(long, value_parser = parse_weights)]
+    pub weights: Option<[f64; 4]>,
     /// Stop after this many milliseconds (default: run until converged).
     #[arg(long)]
     pub budget_ms: Option<f64>,
@@ -101,11 +105,25 @@ pub struct DemoArgs {
 
 /// Parses `X,Y,Z`.
 pub fn parse_point(s: &str) -> Result<[f64; 3], String> {
-    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
-    if parts.len() != 3 {
-        return Err(format!("'{s}' should be three numbers X,Y,Z"));
+    parse_numbers::<3>(s, "three numbers X,Y,Z")
+}
+
+/// Parses `G,F,T,W`: four weights, none negative.
+pub fn parse_weights(s: &str) -> Result<[f64; 4], String> {
+    let w = parse_numbers::<4>(s, "four weights G,F,T,W")?;
+    if w.iter().any(|x| *x < 0.0) {
+        return Err(format!("'{s}': weights cannot be negative"));
     }
-    let mut p = [0.0f64; 3];
+    Ok(w)
+}
+
+/// Parses `N` comma-separated finite numbers.
+fn parse_numbers<const N: usize>(s: &str, what: &str) -> Result<[f64; N], String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if parts.len() != N {
+        return Err(format!("'{s}' should be {what}"));
+    }
+    let mut p = [0.0f64; N];
     for (slot, part) in p.iter_mut().zip(&parts) {
         *slot = part
             .parse()

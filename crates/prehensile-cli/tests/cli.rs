@@ -176,3 +176,29 @@ fn demo_writes_results_and_a_gallery() {
     assert!(dir.join("cartoon4-torus.json").exists());
     assert!(dir.join("robot3-sphere.svg").exists());
 }
+
+#[test]
+fn weights_change_the_search_and_bad_weights_are_refused() {
+    let quality = |weights: &str| {
+        let out = prehensile(&[
+            "grasp",
+            "--object",
+            "box",
+            "--movement",
+            "power",
+            "--weights",
+            weights,
+        ]);
+        assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+        let r: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        r["quality"].as_f64().unwrap()
+    };
+    assert_ne!(quality("5,1,0,1"), quality("1,1,0,0"));
+    let out = prehensile(&["grasp", "--weights", "1,-1,0,1"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        text(&out.stderr).contains("negative"),
+        "{}",
+        text(&out.stderr)
+    );
+}

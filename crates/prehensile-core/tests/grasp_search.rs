@@ -8,7 +8,8 @@ use std::time::Duration;
 
 use prehensile_core::math::{Point3, Vec3};
 use prehensile_core::search::{
-    GraspPlanner, GraspResult, PlannerStatus, SearchError, SearchParams, StopRule, TranslateMode,
+    Evaluation, GraspPlanner, GraspResult, PlannerStatus, SearchError, SearchParams, SearchSink,
+    SearchStats, StopRule, TranslateMode,
 };
 use prehensile_core::shapes::BUILTIN_OBJECTS;
 use prehensile_core::{HandModel, ObjectModel, Workspace};
@@ -335,5 +336,44 @@ fn a_hook_beside_the_object_gives_an_invalid_result_with_a_reason_not_a_penetrat
     }
     if !r.valid {
         assert!(r.invalid_reason.is_some());
+    }
+}
+
+#[test]
+fn a_sink_hears_every_step_and_every_improvement() {
+    #[derive(Default)]
+    struct Recorder {
+        steps: u32,
+        improvements: Vec<f64>,
+    }
+    impl SearchSink for Recorder {
+        fn step(&mut self, stats: &SearchStats, _current: &Evaluation) {
+            self.steps = stats.steps;
+        }
+        fn improved(&mut self, best: &Evaluation) {
+            self.improvements.push(best.quality);
+        }
+    }
+    let hand = common::hand("human");
+    let object = common::object("box");
+    let m = hand.movement("precision").unwrap();
+    let mut planner = GraspPlanner::new(
+        &hand,
+        &object,
+        m,
+        Point3::new(-0.35, -0.2, 0.35),
+        SearchParams::default(),
+    )
+    .unwrap();
+    let mut sink = Recorder::default();
+    planner.run_to_end_into(&mut sink);
+    assert_eq!(sink.steps, planner.stats().steps);
+    assert!(
+        sink.improvements.windows(2).all(|w| w[1] > w[0]),
+        "{:?}",
+        sink.improvements
+    );
+    if let Some(last) = sink.improvements.last() {
+        assert_eq!(Some(*last), planner.best().map(|b| b.quality));
     }
 }

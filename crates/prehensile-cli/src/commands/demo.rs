@@ -45,6 +45,8 @@ pub fn run(args: &DemoArgs) -> Result<i32, CliError> {
                 up,
                 seed: args.seed,
                 budget: None,
+                weights: None,
+                progress: false,
             };
             let (result, took) = search(&request)?;
             let stem = format!("{}-{}", hand.name(), object.name());

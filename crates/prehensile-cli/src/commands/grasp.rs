@@ -2,8 +2,11 @@
 
 use std::time::{Duration, Instant};
 
+use indicatif::{ProgressBar, ProgressStyle};
 use prehensile_core::math::{Point3, Vec3};
-use prehensile_core::search::{GraspPlanner, GraspResult, SearchParams};
+use prehensile_core::search::{
+    Evaluation, GraspPlanner, GraspResult, QualityWeights, SearchParams, SearchSink, SearchStats,
+};
 use prehensile_core::{HandModel, ObjectModel, Workspace};
 
 use crate::args::GraspArgs;
@@ -25,6 +28,34 @@ pub struct Request<'a> {
     pub seed: u64,
     /// Time budget per movement.
     pub budget: Option<Duration>,
+    /// Quality weights, or the movement's defaults.
+    pub weights: Option<QualityWeights>,
+    /// Show a spinner with the search's progress on a terminal.
+    pub progress: bool,
+}
+
+/// Shows the search's progress on a spinner.
+struct SpinnerSink {
+    bar: ProgressBar,
+    movement: String,
+    best: Option<f64>,
+}
+
+impl SearchSink for SpinnerSink {
+    fn step(&mut self, stats: &SearchStats, _current: &Evaluation) {
+        let best = self
+            .best
+            .map_or("none yet".to_string(), |q| format!("{q:.4}"));
+        self.bar.set_message(format!(
+            "{}: step {}, {} poses, best valid quality {best}",
+            self.movement, stats.steps, stats.evaluations
+        ));
+        self.bar.tick();
+    }
+
+    fn improved(&mut self, best: &Evaluation) {
+        self.best = Some(best.quality);
+    }
 }
 
 /// Default shoulder: 35 cm behind, 20 cm to the side and 35 cm above the hook.
@@ -82,14 +113,27 @@ pub fn search(req: &Request) -> Result<(GraspResult, Duration), CliError> {
         let params = SearchParams {
             seed: req.seed,
             up: req.up,
+            weights: req.weights,
             ..SearchParams::default()
         };
         let mut planner = GraspPlanner::new(req.hand, req.object, movement, req.shoulder, params)
             .map_err(CliError::from_display)?;
-        match req.budget {
-            Some(b) => planner.run_for(b),
-            None => planner.run_to_end(),
+        let bar = if req.progress {
+            ProgressBar::new_spinner()
+        } else {
+            ProgressBar::hidden()
         };
+        bar.set_style(ProgressStyle::with_template("{spinner} {msg}").expect("valid template"));
+        let mut sink = SpinnerSink {
+            bar,
+            movement: name.to_string(),
+            best: None,
+        };
+        match req.budget {
+            Some(b) => planner.run_for_into(b, &mut sink),
+            None => planner.run_to_end_into(&mut sink),
+        };
+        sink.bar.finish_and_clear();
         let mut ws = Workspace::new(req.hand);
         let result = GraspResult::from_planner(&planner, &mut ws);
         let better = match &best {
@@ -151,6 +195,15 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
         up,
         seed: args.seed,
         budget,
+        weights: args
+            .weights
+            .map(|[gdist, fdist, tdist, wdist]| QualityWeights {
+                gdist,
+                fdist,
+                tdist,
+                wdist,
+            }),
+        progress: true,
     };
     let (result, took) = search(&request)?;
     let json = serde_json::to_string_pretty(&result).map_err(CliError::from_display)?;

@@ -12,7 +12,9 @@ pub mod translate_to_free;
 pub mod wrist_range;
 
 pub use optimization_step::StepKind;
-pub use planner::{GraspPlanner, PlannerStatus, SearchError, SearchParams, SearchStats, StopRule};
+pub use planner::{
+    GraspPlanner, PlannerStatus, SearchError, SearchParams, SearchSink, SearchStats, StopRule,
+};
 pub use quality::{Evaluation, Invalid, QualityTerms, QualityWeights};
 pub use result::{GraspResult, RESULT_SCHEMA};
 pub use translate_to_free::TranslateMode;

@@ -86,6 +86,18 @@ impl Default for SearchParams {
     }
 }
 
+/// Receives what the planner finds as it finds it (as ripgrep's `Sink` receives matches): the
+/// search never prints; a caller shows progress or streams poses by implementing this.
+pub trait SearchSink {
+    /// After every step, with the counts so far and the current pose.
+    fn step(&mut self, _stats: &SearchStats, _current: &Evaluation) {}
+    /// When the best valid grasp improves.
+    fn improved(&mut self, _best: &Evaluation) {}
+}
+
+/// A sink that ignores everything.
+impl SearchSink for () {}
+
 /// Why a search cannot start.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
@@ -274,6 +286,11 @@ impl<'a> GraspPlanner<'a> {
 
     /// One optimization step: a random angle, the step's candidates, move to the best.
     pub fn step(&mut self) -> PlannerStatus {
+        self.step_into(&mut ())
+    }
+
+    /// One step, telling `sink` what happened.
+    pub fn step_into(&mut self, sink: &mut dyn SearchSink) -> PlannerStatus {
         if self.status != PlannerStatus::Searching {
             return self.status;
         }
@@ -322,6 +339,7 @@ impl<'a> GraspPlanner<'a> {
         };
         self.collect_counters();
         self.stats.seconds += began.elapsed().as_secs_f64();
+        sink.step(&self.stats, &self.current);
         self.status
     }
 
@@ -355,17 +373,27 @@ impl<'a> GraspPlanner<'a> {
 
     /// Steps until the time budget is spent or the search stops.
     pub fn run_for(&mut self, budget: Duration) -> PlannerStatus {
+        self.run_for_into(budget, &mut ())
+    }
+
+    /// Steps until the time budget is spent or the search stops, telling `sink`.
+    pub fn run_for_into(&mut self, budget: Duration, sink: &mut dyn SearchSink) -> PlannerStatus {
         let began = Instant::now();
         while self.status == PlannerStatus::Searching && began.elapsed() < budget {
-            self.step();
+            self.step_into(sink);
         }
         self.status
     }
 
     /// Steps until the stop rule or the step limit.
     pub fn run_to_end(&mut self) -> PlannerStatus {
+        self.run_to_end_into(&mut ())
+    }
+
+    /// Steps until the stop rule or the step limit, telling `sink`.
+    pub fn run_to_end_into(&mut self, sink: &mut dyn SearchSink) -> PlannerStatus {
         while self.status == PlannerStatus::Searching {
-            self.step();
+            self.step_into(sink);
         }
         self.status
     }
