@@ -68,10 +68,14 @@ impl MeshCollider {
         match self.fast.decide(&capsule.a, &capsule.b, capsule.radius) {
             Decision::Touches => true,
             Decision::Free => false,
-            Decision::Unsure => {
+            Decision::Unsure { from, to, outside } => {
                 counters.exact_fallbacks += 1;
-                self.exact
-                    .capsule_touches(&capsule.a, &capsule.b, capsule.radius)
+                let (a, b) = (capsule.a, capsule.b);
+                let (p, q) = (a + (b - a) * from, a + (b - a) * to);
+                // No surface near the unproven part and the rest proven clear: the capsule is
+                // wholly outside or wholly inside, and `outside` or one inside test says which.
+                self.exact.segment_within(&p, &q, capsule.radius)
+                    || (!outside && self.exact.signed_distance(&a) < 0.0)
             }
         }
     }

@@ -26,14 +26,24 @@ const MAX_NODES_PER_AXIS: usize = 64;
 const BAND_MIN: f64 = 0.02;
 
 /// What the grid alone can say about a capsule.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Decision {
     /// The capsule touches the surface or lies inside.
     Touches,
     /// The capsule is clear of the object.
     Free,
-    /// The bounds do not decide; ask the exact path.
-    Unsure,
+    /// The bounds do not decide; ask the exact path about the part of the segment from fraction
+    /// `from` to `to` (the rest is proven clear). `outside` tells that some sample was proven
+    /// clear, hence outside the object: if the exact path finds no surface within the radius, the
+    /// capsule is free without an inside test.
+    Unsure {
+        /// Start of the unproven part, as a fraction of the segment.
+        from: f64,
+        /// End of the unproven part.
+        to: f64,
+        /// Some part of the capsule is proven outside.
+        outside: bool,
+    },
 }
 
 /// Signed distances on a regular grid covering the object's bounds plus a margin.
@@ -241,6 +251,8 @@ impl SignedDistanceGrid {
             Vec3::zeros()
         };
         let mut all_free = true;
+        let mut outside = false;
+        let (mut first_unsure, mut last_unsure) = (f64::INFINITY, 0.0f64);
         let mut t = 0.0;
         loop {
             let p = a + direction * t;
@@ -253,9 +265,12 @@ impl SignedDistanceGrid {
             }
             let clear = lower - radius;
             let advance = if clear > 0.25 * self.spacing {
+                outside = true;
                 clear
             } else {
                 all_free = false;
+                first_unsure = first_unsure.min(t);
+                last_unsure = t;
                 self.spacing
             };
             if t >= length {
@@ -266,7 +281,20 @@ impl SignedDistanceGrid {
         if all_free {
             Decision::Free
         } else {
-            Decision::Unsure
+            // Everything before the first unsure sample is covered by the clear samples before
+            // it; after the last one, the next sample (one spacing on) takes over.
+            let fraction = |t: f64| {
+                if length > 0.0 {
+                    (t / length).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                }
+            };
+            Decision::Unsure {
+                from: fraction(first_unsure),
+                to: fraction(last_unsure + self.spacing),
+                outside,
+            }
         }
     }
 }

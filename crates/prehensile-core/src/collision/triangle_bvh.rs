@@ -8,7 +8,8 @@
 use std::collections::HashMap;
 
 use crate::geometry::{
-    closest_point_on_triangle, distance_squared_segment_triangle, TriangleFeature,
+    closest_point_on_triangle, distance_squared_segment_triangle, segment_within_triangle,
+    TriangleFeature,
 };
 use crate::math::{Point3, Vec3};
 use crate::mesh::TriangleMesh;
@@ -234,7 +235,6 @@ impl TriangleBvh {
     /// True when some triangle lies within `radius` of segment `a–b` (the capsule touches the
     /// surface). Does not detect a capsule wholly inside; see [`TriangleBvh::capsule_touches`].
     pub fn segment_within(&self, a: &Point3, b: &Point3, radius: f64) -> bool {
-        let r2 = radius * radius;
         let mut stack = [0u32; STACK];
         let mut top = 1;
         while top > 0 {
@@ -250,8 +250,14 @@ impl TriangleBvh {
                     if distance_squared_point_segment(&centre, a, b) > near * near {
                         continue;
                     }
-                    let [p, q, s] = &self.corners[t as usize];
-                    if distance_squared_segment_triangle(a, b, p, q, s) <= r2 {
+                    let t = t as usize;
+                    if segment_within_triangle(
+                        a,
+                        b,
+                        &self.corners[t],
+                        &self.face_normals[t],
+                        radius,
+                    ) {
                         return true;
                     }
                 }

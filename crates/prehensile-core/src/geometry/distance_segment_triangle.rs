@@ -25,6 +25,25 @@ pub fn distance_squared_segment_triangle(
     dp.min(dq).min(e0).min(e1).min(e2)
 }
 
+/// True when segment `p–q` comes within `radius` of triangle `(a, b, c)` whose unit normal is
+/// `normal`. Rejects first, cheaply, when both ends lie more than `radius` on one side of the
+/// triangle's plane.
+#[inline]
+pub fn segment_within_triangle(
+    p: &Point3,
+    q: &Point3,
+    [a, b, c]: &[Point3; 3],
+    normal: &Vec3,
+    radius: f64,
+) -> bool {
+    let sp = normal.dot(&(p - a));
+    let sq = normal.dot(&(q - a));
+    if (sp > radius && sq > radius) || (sp < -radius && sq < -radius) {
+        return false;
+    }
+    distance_squared_segment_triangle(p, q, a, b, c) <= radius * radius
+}
+
 /// True when the segment crosses the triangle's plane inside the triangle (boundary included).
 fn segment_pierces_triangle(p: &Point3, q: &Point3, a: &Point3, b: &Point3, c: &Point3) -> bool {
     let n: Vec3 = (b - a).cross(&(c - a));
@@ -43,6 +62,23 @@ fn segment_pierces_triangle(p: &Point3, q: &Point3, a: &Point3, b: &Point3, c: &
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn plane_reject_agrees_with_the_distance() {
+        let p = |x, y, z| Point3::new(x, y, z);
+        let tri = [p(0.0, 0.0, 0.0), p(1.0, 0.0, 0.0), p(0.0, 1.0, 0.0)];
+        let n = Vec3::z();
+        for (a, b, r) in [
+            (p(0.2, 0.2, 0.5), p(0.3, 0.2, 0.6), 0.49),
+            (p(0.2, 0.2, 0.5), p(0.3, 0.2, 0.6), 0.51),
+            (p(2.0, 2.0, 0.0), p(3.0, 2.0, 0.0), 1.0),
+            (p(0.2, 0.2, -0.5), p(0.2, 0.2, 0.5), 0.01),
+        ] {
+            let expected =
+                distance_squared_segment_triangle(&a, &b, &tri[0], &tri[1], &tri[2]) <= r * r;
+            assert_eq!(segment_within_triangle(&a, &b, &tri, &n, r), expected);
+        }
+    }
 
     #[test]
     fn piercing_above_and_beside() {
