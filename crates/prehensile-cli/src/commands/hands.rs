@@ -42,7 +42,7 @@ fn summary(h: &HandModel) -> HandSummary {
                 bone: b.name.clone(),
                 kind: match b.joint {
                     Joint::Fixed => "fixed",
-                    Joint::Hinge { .. } => "hinge",
+                    Joint::Hinge(_) => "hinge",
                     Joint::TwoAxis { .. } => "two-axis",
                     Joint::Ball { .. } => "ball",
                 },

@@ -4,7 +4,7 @@
 use std::collections::HashMap;
 
 use super::description::{HandDescription, JointDescription};
-use super::model::{Bone, BoneCapsule, Coupling, Finger, HandModel, Joint};
+use super::model::{Axis, Bone, BoneCapsule, Coupling, Finger, HandModel, Joint};
 use crate::kinematics::forward_kinematics;
 use crate::math::{Point3, Rotation, Transform, Vec3};
 use crate::movement::GraspMovement;
@@ -307,7 +307,21 @@ impl HandModel {
             dof_count: dof,
             chain_predecessor,
             capsule_ranges,
+            dof_names: Vec::new(),
         };
+        model.dof_names = model
+            .bones
+            .iter()
+            .flat_map(|b| {
+                let suffixes: &[&str] = match b.joint {
+                    Joint::Fixed => &[],
+                    Joint::Hinge(_) => &["flexion"],
+                    Joint::TwoAxis { .. } => &["flexion", "abduction"],
+                    Joint::Ball { .. } => &["x", "y", "z"],
+                };
+                suffixes.iter().map(move |s| format!("{}.{s}", b.name))
+            })
+            .collect();
         model.couplings = desc
             .couplings
             .iter()
@@ -366,12 +380,10 @@ fn joint_from(j: &JointDescription) -> Joint {
     let r = |l: [f64; 2]| l.map(f64::to_radians);
     match j {
         JointDescription::Fixed => Joint::Fixed,
-        JointDescription::Hinge { flexion } => Joint::Hinge {
-            flexion: r(*flexion),
-        },
+        JointDescription::Hinge { flexion } => Joint::Hinge(Axis::new(-Vec3::x(), r(*flexion))),
         JointDescription::TwoAxis { flexion, abduction } => Joint::TwoAxis {
-            flexion: r(*flexion),
-            abduction: r(*abduction),
+            flexion: Axis::new(-Vec3::x(), r(*flexion)),
+            abduction: Axis::new(Vec3::y(), r(*abduction)),
         },
         JointDescription::Ball { limits } => Joint::Ball {
             limits: limits.map(r),

@@ -3,22 +3,39 @@
 use crate::math::{Point3, Rotation, Transform, Vec3};
 use crate::movement::GraspMovement;
 
-/// A joint: how a bone may rotate relative to its parent, limits in radians.
+/// A rotation axis fixed in a bone's frame, with the limits of its angle in radians.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Axis {
+    /// Unit axis in the bone frame.
+    pub axis: nalgebra::Unit<Vec3>,
+    /// `[min, max]` angle.
+    pub limits: [f64; 2],
+}
+
+impl Axis {
+    /// An axis from a direction and limits.
+    pub fn new(axis: Vec3, limits: [f64; 2]) -> Self {
+        Self {
+            axis: nalgebra::Unit::new_normalize(axis),
+            limits,
+        }
+    }
+}
+
+/// A joint: how a bone may rotate relative to its parent.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Joint {
     /// No motion.
     Fixed,
-    /// Flexion about the bone's −x axis.
-    Hinge {
-        /// `[min, max]` flexion.
-        flexion: [f64; 2],
-    },
-    /// Flexion about the bone's −x axis, then abduction about its y axis.
+    /// One axis (for hands written in TOML: flexion about the bone's −x).
+    Hinge(Axis),
+    /// Two axes: `flexion` turns first (inner), `abduction` after it (outer):
+    /// R = R(abduction)·R(flexion). Degree of freedom 0 is flexion, 1 abduction.
     TwoAxis {
-        /// `[min, max]` flexion.
-        flexion: [f64; 2],
-        /// `[min, max]` abduction.
-        abduction: [f64; 2],
+        /// Inner axis (degree of freedom 0).
+        flexion: Axis,
+        /// Outer axis (degree of freedom 1).
+        abduction: Axis,
     },
     /// A rotation vector in the bone frame, each component limited.
     Ball {
@@ -32,7 +49,7 @@ impl Joint {
     pub fn dofs(&self) -> usize {
         match self {
             Joint::Fixed => 0,
-            Joint::Hinge { .. } => 1,
+            Joint::Hinge(_) => 1,
             Joint::TwoAxis { .. } => 2,
             Joint::Ball { .. } => 3,
         }
@@ -41,8 +58,8 @@ impl Joint {
     /// Limits of degree of freedom `k`.
     pub fn limits(&self, k: usize) -> [f64; 2] {
         match (self, k) {
-            (Joint::Hinge { flexion }, 0) | (Joint::TwoAxis { flexion, .. }, 0) => *flexion,
-            (Joint::TwoAxis { abduction, .. }, 1) => *abduction,
+            (Joint::Hinge(a), 0) | (Joint::TwoAxis { flexion: a, .. }, 0) => a.limits,
+            (Joint::TwoAxis { abduction, .. }, 1) => abduction.limits,
             (Joint::Ball { limits }, k) if k < 3 => limits[k],
             _ => [0.0, 0.0],
         }
@@ -50,16 +67,38 @@ impl Joint {
 
     /// The joint rotation for the given angles (one per degree of freedom).
     pub fn rotation(&self, angles: &[f64]) -> Rotation {
-        let flex = |a: f64| Rotation::from_axis_angle(&-Vec3::x_axis(), a);
         match self {
             Joint::Fixed => Rotation::identity(),
-            Joint::Hinge { .. } => flex(angles[0]),
-            Joint::TwoAxis { .. } => {
-                Rotation::from_axis_angle(&Vec3::y_axis(), angles[1]) * flex(angles[0])
+            Joint::Hinge(a) => Rotation::from_axis_angle(&a.axis, angles[0]),
+            Joint::TwoAxis { flexion, abduction } => {
+                Rotation::from_axis_angle(&abduction.axis, angles[1])
+                    * Rotation::from_axis_angle(&flexion.axis, angles[0])
             }
             Joint::Ball { .. } => {
                 Rotation::from_scaled_axis(Vec3::new(angles[0], angles[1], angles[2]))
             }
+        }
+    }
+
+    /// The angles of a joint rotation (the inverse of [`Joint::rotation`] for rotations the joint
+    /// can make; the nearest decomposition otherwise), written into `out`.
+    pub fn angles(&self, r: &Rotation, out: &mut [f64]) {
+        match self {
+            Joint::Fixed => {}
+            Joint::Hinge(a) => out[0] = r.scaled_axis().dot(&a.axis),
+            Joint::TwoAxis { flexion, abduction } => {
+                // R·i = R(o, b)·i for the inner axis i: b is i's turn about the outer axis o.
+                let (i, o) = (flexion.axis.into_inner(), abduction.axis.into_inner());
+                let turned = r * i;
+                let b = o
+                    .cross(&i)
+                    .dot(&turned)
+                    .atan2(i.dot(&turned) - o.dot(&i) * o.dot(&turned));
+                let rest = Rotation::from_axis_angle(&abduction.axis, -b) * r;
+                out[0] = rest.scaled_axis().dot(&i);
+                out[1] = b;
+            }
+            Joint::Ball { .. } => out[..3].copy_from_slice(r.scaled_axis().as_slice()),
         }
     }
 }
@@ -130,6 +169,7 @@ pub struct HandModel {
     pub(crate) dof_count: usize,
     pub(crate) chain_predecessor: Vec<Option<usize>>,
     pub(crate) capsule_ranges: Vec<std::ops::Range<usize>>,
+    pub(crate) dof_names: Vec<String>,
 }
 
 impl HandModel {
@@ -171,6 +211,12 @@ impl HandModel {
     /// The movement with this name.
     pub fn movement(&self, name: &str) -> Option<&GraspMovement> {
         self.movements.iter().find(|m| m.name() == name)
+    }
+
+    /// Name of every degree of freedom: the source file's joint names for imported hands,
+    /// `bone.flexion`, `bone.abduction` or `bone.x|y|z` for hands written in TOML.
+    pub fn dof_names(&self) -> &[String] {
+        &self.dof_names
     }
 
     /// Total degrees of freedom.
@@ -225,5 +271,38 @@ impl HandModel {
                 .joint
                 .rotation(&angles[bone.first_dof..bone.first_dof + n]);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn two_axis_angles_round_trip_for_any_orthogonal_axes() {
+        for (i, o) in [
+            (-Vec3::x(), Vec3::y()),
+            (Vec3::x(), Vec3::y()),
+            (Vec3::new(1.0, 1.0, 0.0), Vec3::new(-1.0, 1.0, 0.3)),
+        ] {
+            let o = o - i * (o.dot(&i) / i.norm_squared());
+            let joint = Joint::TwoAxis {
+                flexion: Axis::new(i, [-2.0, 2.0]),
+                abduction: Axis::new(o, [-1.0, 1.0]),
+            };
+            for (a, b) in [(0.3, -0.2), (1.4, 0.5), (-0.7, 0.9)] {
+                let r = joint.rotation(&[a, b]);
+                let mut out = [0.0; 2];
+                joint.angles(&r, &mut out);
+                assert!(
+                    (out[0] - a).abs() < 1e-9 && (out[1] - b).abs() < 1e-9,
+                    "{out:?} vs {a}, {b}"
+                );
+            }
+        }
+        let hinge = Joint::Hinge(Axis::new(Vec3::new(0.0, 0.0, 2.0), [-1.0, 1.0]));
+        let mut out = [0.0];
+        hinge.angles(&hinge.rotation(&[-0.4]), &mut out);
+        assert!((out[0] + 0.4).abs() < 1e-12);
     }
 }

@@ -1,7 +1,6 @@
 //! The search's output (§3.5) as plain data with a documented, versioned JSON form
 //! (`docs/RESULT_SCHEMA.md`). Everything is in metres and radians in the object's frame.
 
-use crate::hand::Joint;
 use crate::math::{Rotation, Transform};
 use crate::workspace::Workspace;
 
@@ -193,35 +192,21 @@ impl GraspResult {
     }
 }
 
-/// Joint angles recovered from each bone's joint rotation.
+/// Joint angles recovered from each bone's joint rotation, under the hand's degree-of-freedom
+/// names.
 fn joint_records(hand: &crate::hand::HandModel, rotations: &[Rotation]) -> Vec<JointRecord> {
-    let mut out = Vec::new();
+    let mut angles = vec![0.0; hand.dof_count()];
     for (bone, r) in hand.bones().iter().zip(rotations) {
-        let mut push = |suffix: &str, angle: f64| {
-            out.push(JointRecord {
-                name: format!("{}.{suffix}", bone.name),
-                angle,
-            })
-        };
-        match bone.joint {
-            Joint::Fixed => {}
-            Joint::Hinge { .. } => {
-                // Rotation about −x: the signed angle of its scaled axis along −x.
-                push("flexion", -r.scaled_axis().x);
-            }
-            Joint::TwoAxis { .. } => {
-                // R = Ry(abduction)·R−x(flexion) sends z to (sin a cos f, sin f, cos a cos f).
-                let z = r * crate::math::Vec3::z();
-                push("flexion", z.y.clamp(-1.0, 1.0).asin());
-                push("abduction", z.x.atan2(z.z));
-            }
-            Joint::Ball { .. } => {
-                let v = r.scaled_axis();
-                push("x", v.x);
-                push("y", v.y);
-                push("z", v.z);
-            }
-        }
+        let n = bone.joint.dofs();
+        bone.joint
+            .angles(r, &mut angles[bone.first_dof..bone.first_dof + n]);
     }
-    out
+    hand.dof_names()
+        .iter()
+        .zip(angles)
+        .map(|(name, angle)| JointRecord {
+            name: name.clone(),
+            angle,
+        })
+        .collect()
 }
