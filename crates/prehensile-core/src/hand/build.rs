@@ -1,11 +1,12 @@
-//! Validation of a [`HandDescription`] into a [`HandModel`]. Every error names the bone (or
-//! movement) and says how to fix it.
+//! Building a [`HandModel`]: from parts given directly (importers of MJCF, URDF, glTF) or from a
+//! [`HandDescription`] (TOML). Every error names the bone (or movement) and says how to fix it.
 
 use std::collections::HashMap;
 
 use super::description::{HandDescription, JointDescription};
 use super::model::{Axis, Bone, BoneCapsule, Coupling, Finger, HandModel, Joint};
 use crate::kinematics::forward_kinematics;
+use crate::math::is_finite_vec;
 use crate::math::{Point3, Rotation, Transform, Vec3};
 use crate::movement::GraspMovement;
 
@@ -97,81 +98,332 @@ pub enum HandError {
     Invalid(String),
 }
 
+/// One bone given directly, as an importer reads it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BonePart {
+    /// Unique name.
+    pub name: String,
+    /// Parent bone's name; `None` for the root.
+    pub parent: Option<String>,
+    /// Bone frame relative to the parent's frame when all joint angles are zero (the root's:
+    /// relative to the hand frame).
+    pub rest: Transform,
+    /// The joint that moves the bone.
+    pub joint: Joint,
+    /// One name per degree of freedom of the joint (the source file's joint names).
+    pub dof_names: Vec<String>,
+    /// Collision capsules `(a, b, radius)` in the bone frame; may be empty.
+    pub capsules: Vec<(Point3, Point3, f64)>,
+    /// Fingertip in the bone frame: required on the last bone of every finger, only there.
+    pub tip: Option<Point3>,
+    /// Name of the finger this bone starts (only read on a child of the root).
+    pub finger: Option<String>,
+}
+
+/// A hand given directly as bones with rest transforms, joints and capsules.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct HandParts {
+    /// Name of the hand.
+    pub name: String,
+    /// One line about it.
+    pub description: String,
+    /// Bones in any order.
+    pub bones: Vec<BonePart>,
+    /// `(follower, leader, ratio)` by degree-of-freedom name.
+    pub couplings: Vec<(String, String, f64)>,
+}
+
+/// Parents-first order, children and root of a bone tree, checked.
+struct Topology {
+    order: Vec<usize>,
+    children: Vec<Vec<usize>>,
+    root: usize,
+}
+
+fn topology(names: &[&str], parents: &[Option<&str>]) -> Result<Topology, HandError> {
+    let n = names.len();
+    if !(3..=MAX_BONES).contains(&n) {
+        return Err(HandError::BoneCount(n));
+    }
+    let mut by_name = HashMap::new();
+    for (i, name) in names.iter().enumerate() {
+        if by_name.insert(*name, i).is_some() {
+            return Err(HandError::DuplicateBone(name.to_string()));
+        }
+    }
+    let mut parent = vec![None; n];
+    let mut roots = Vec::new();
+    for (i, p) in parents.iter().enumerate() {
+        match p {
+            None => roots.push(names[i].to_string()),
+            Some(p) => {
+                parent[i] = Some(*by_name.get(p).ok_or_else(|| HandError::MissingParent {
+                    bone: names[i].to_string(),
+                    parent: p.to_string(),
+                })?)
+            }
+        }
+    }
+    for (i, name) in names.iter().enumerate() {
+        let mut at = i;
+        for _ in 0..=n {
+            match parent[at] {
+                Some(p) if p == i => return Err(HandError::Cycle(name.to_string())),
+                Some(p) => at = p,
+                None => break,
+            }
+        }
+        if parent[at].is_some() {
+            return Err(HandError::Cycle(name.to_string()));
+        }
+    }
+    if roots.len() != 1 {
+        return Err(HandError::RootCount(roots));
+    }
+    let root = by_name[roots[0].as_str()];
+    let mut children: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for (i, p) in parent.iter().enumerate() {
+        if let Some(p) = *p {
+            children[p].push(i);
+        }
+    }
+    let mut order = Vec::with_capacity(n);
+    let mut stack = vec![root];
+    while let Some(i) = stack.pop() {
+        order.push(i);
+        stack.extend(children[i].iter().rev());
+    }
+    Ok(Topology {
+        order,
+        children,
+        root,
+    })
+}
+
+fn check_limits(bone: &str, joint: &Joint) -> Result<(), HandError> {
+    for k in 0..joint.dofs() {
+        let [min, max] = joint.limits(k);
+        if !min.is_finite() || !max.is_finite() {
+            return Err(HandError::NonFinite {
+                bone: bone.to_string(),
+                what: "joint limits".into(),
+            });
+        }
+        if min > max {
+            return Err(HandError::UnorderedLimits {
+                bone: bone.to_string(),
+                min: min.to_degrees(),
+                max: max.to_degrees(),
+            });
+        }
+    }
+    let axes_ok = match joint {
+        Joint::Hinge(a) => is_finite_vec(&a.axis),
+        Joint::TwoAxis { flexion, abduction } => {
+            is_finite_vec(&flexion.axis) && is_finite_vec(&abduction.axis)
+        }
+        _ => true,
+    };
+    if !axes_ok {
+        return Err(HandError::NonFinite {
+            bone: bone.to_string(),
+            what: "joint axis".into(),
+        });
+    }
+    Ok(())
+}
+
 impl HandModel {
-    /// Validates a description and builds the model.
-    pub fn from_description(desc: &HandDescription) -> Result<Self, HandError> {
-        let n = desc.bones.len();
-        if !(3..=MAX_BONES).contains(&n) {
-            return Err(HandError::BoneCount(n));
-        }
-        let mut by_name = HashMap::new();
-        for (i, b) in desc.bones.iter().enumerate() {
-            if by_name.insert(b.name.as_str(), i).is_some() {
-                return Err(HandError::DuplicateBone(b.name.clone()));
+    /// Validates bones given directly and builds the model, with the generic `close` movement.
+    pub fn from_parts(parts: HandParts) -> Result<Self, HandError> {
+        let mut model = Self::assemble(&parts)?;
+        model.movements = vec![GraspMovement::generic_close(&model)];
+        Ok(model)
+    }
+
+    fn assemble(parts: &HandParts) -> Result<Self, HandError> {
+        let names: Vec<&str> = parts.bones.iter().map(|b| b.name.as_str()).collect();
+        let parents: Vec<Option<&str>> = parts.bones.iter().map(|b| b.parent.as_deref()).collect();
+        let topo = topology(&names, &parents)?;
+        for b in &parts.bones {
+            let non_finite = |what: &str| HandError::NonFinite {
+                bone: b.name.clone(),
+                what: what.to_string(),
+            };
+            let m = b.rest.to_homogeneous();
+            if !m.iter().all(|c| c.is_finite()) {
+                return Err(non_finite("rest transform"));
             }
-            check_bone_numbers(b)?;
-        }
-        // Parents by description index.
-        let mut parent = vec![None; n];
-        let mut roots = Vec::new();
-        for (i, b) in desc.bones.iter().enumerate() {
-            match &b.parent {
-                None => roots.push(b.name.clone()),
-                Some(p) => {
-                    let &pi = by_name
-                        .get(p.as_str())
-                        .ok_or_else(|| HandError::MissingParent {
-                            bone: b.name.clone(),
-                            parent: p.clone(),
-                        })?;
-                    parent[i] = Some(pi);
+            if b.tip.is_some_and(|t| !is_finite_vec(&t.coords)) {
+                return Err(non_finite("tip"));
+            }
+            for (a, c, r) in &b.capsules {
+                if !is_finite_vec(&a.coords) || !is_finite_vec(&c.coords) || !r.is_finite() {
+                    return Err(non_finite("capsule"));
+                }
+                if *r <= 0.0 {
+                    return Err(HandError::BadRadius {
+                        bone: b.name.clone(),
+                        radius: *r,
+                    });
                 }
             }
-        }
-        for (i, b) in desc.bones.iter().enumerate() {
-            let mut at = i;
-            for _ in 0..=n {
-                match parent[at] {
-                    Some(p) if p == i => return Err(HandError::Cycle(b.name.clone())),
-                    Some(p) => at = p,
-                    None => break,
-                }
-            }
-            if parent[at].is_some() {
-                return Err(HandError::Cycle(b.name.clone()));
+            check_limits(&b.name, &b.joint)?;
+            if b.dof_names.len() != b.joint.dofs() {
+                return Err(HandError::Invalid(format!(
+                    "bone '{}' names {} degree(s) of freedom but its joint has {}",
+                    b.name,
+                    b.dof_names.len(),
+                    b.joint.dofs()
+                )));
             }
         }
-        if roots.len() != 1 {
-            return Err(HandError::RootCount(roots));
-        }
-        let root = by_name[roots[0].as_str()];
-        // Parents-first order by depth-first traversal from the root.
-        let mut children: Vec<Vec<usize>> = vec![Vec::new(); n];
-        for (i, p) in parent.iter().enumerate() {
-            if let Some(p) = *p {
-                children[p].push(i);
-            }
-        }
-        let mut order = Vec::with_capacity(n);
-        let mut stack = vec![root];
-        while let Some(i) = stack.pop() {
-            order.push(i);
-            stack.extend(children[i].iter().rev());
-        }
+        let n = parts.bones.len();
         let mut new_index = vec![0; n];
-        for (k, &i) in order.iter().enumerate() {
+        for (k, &i) in topo.order.iter().enumerate() {
             new_index[i] = k;
         }
-        // Rest frames in the hand frame.
-        let mut frames = Vec::with_capacity(n);
-        for &i in &order {
+        for (i, kids) in topo.children.iter().enumerate() {
+            let b = &parts.bones[i];
+            if i != topo.root && kids.len() > 1 {
+                return Err(HandError::Branching {
+                    bone: b.name.clone(),
+                    children: kids.len(),
+                });
+            }
+            if i != topo.root && kids.is_empty() && b.tip.is_none() {
+                return Err(HandError::MissingTip(b.name.clone()));
+            }
+            if !kids.is_empty() && b.tip.is_some() {
+                return Err(HandError::MisplacedTip(b.name.clone()));
+            }
+        }
+        let mut bones = Vec::with_capacity(n);
+        let mut dof = 0;
+        let mut dof_names = Vec::new();
+        for &i in &topo.order {
+            let b = &parts.bones[i];
+            let parent = parts.bones[i]
+                .parent
+                .as_ref()
+                .map(|p| new_index[names.iter().position(|x| x == p).expect("parents checked")]);
+            bones.push(Bone {
+                name: b.name.clone(),
+                parent,
+                rest: b.rest,
+                joint: b.joint.clone(),
+                first_dof: dof,
+                finger: None,
+            });
+            dof += b.joint.dofs();
+            dof_names.extend(b.dof_names.iter().cloned());
+        }
+        let mut seen = std::collections::HashSet::new();
+        if let Some(dup) = dof_names.iter().find(|d| !seen.insert(d.as_str())) {
+            return Err(HandError::Invalid(format!(
+                "two degrees of freedom are named '{dup}'; names must be unique"
+            )));
+        }
+        // Fingers: one chain per child of the root.
+        let mut fingers = Vec::new();
+        let mut chain_predecessor = vec![None; n];
+        for &c in &topo.children[topo.root] {
+            let mut chain = vec![new_index[c]];
+            let mut at = c;
+            while let [next] = topo.children[at].as_slice() {
+                chain_predecessor[new_index[*next]] = Some(new_index[at]);
+                chain.push(new_index[*next]);
+                at = *next;
+            }
+            let tip = parts.bones[at].tip.expect("leaf tips checked above");
+            let name = parts.bones[c]
+                .finger
+                .clone()
+                .unwrap_or_else(|| parts.bones[c].name.clone());
+            if fingers.iter().any(|f: &Finger| f.name == name) {
+                return Err(HandError::Invalid(format!(
+                    "two fingers are named '{name}'; set a distinct finger name on their first bones"
+                )));
+            }
+            for &bi in &chain {
+                bones[bi].finger = Some(fingers.len());
+            }
+            fingers.push(Finger {
+                name,
+                bones: chain,
+                tip,
+            });
+        }
+        if fingers.len() < 2 {
+            return Err(HandError::TooFewFingers(fingers.len()));
+        }
+        let mut capsules = Vec::new();
+        let mut capsule_ranges = vec![0..0; n];
+        for (k, &i) in topo.order.iter().enumerate() {
+            let first = capsules.len();
+            for &(a, b, radius) in &parts.bones[i].capsules {
+                capsules.push(BoneCapsule {
+                    bone: k,
+                    a,
+                    b,
+                    radius,
+                });
+            }
+            capsule_ranges[k] = first..capsules.len();
+        }
+        let mut model = HandModel {
+            name: parts.name.clone(),
+            description: parts.description.clone(),
+            bones,
+            capsules,
+            fingers,
+            couplings: Vec::new(),
+            movements: Vec::new(),
+            dof_count: dof,
+            chain_predecessor,
+            capsule_ranges,
+            dof_names,
+        };
+        model.couplings = parts
+            .couplings
+            .iter()
+            .map(|(follower, leader, ratio)| {
+                let find = |name: &str| {
+                    model.dof_names.iter().position(|d| d == name).ok_or_else(|| {
+                        HandError::Invalid(format!("coupling names '{name}', which is no degree of freedom of this hand"))
+                    })
+                };
+                if !ratio.is_finite() {
+                    return Err(HandError::Invalid(format!("coupling of '{follower}' has a non-finite ratio")));
+                }
+                Ok(Coupling {
+                    follower: find(follower)?,
+                    leader: find(leader)?,
+                    ratio: *ratio,
+                })
+            })
+            .collect::<Result<_, _>>()?;
+        Ok(model)
+    }
+
+    /// Validates a description and builds the model.
+    pub fn from_description(desc: &HandDescription) -> Result<Self, HandError> {
+        for b in &desc.bones {
+            check_bone_numbers(b)?;
+        }
+        let names: Vec<&str> = desc.bones.iter().map(|b| b.name.as_str()).collect();
+        let parents: Vec<Option<&str>> = desc.bones.iter().map(|b| b.parent.as_deref()).collect();
+        let topo = topology(&names, &parents)?;
+        // Bone frames in the hand frame: z along the bone, y toward `flexes_toward`.
+        let mut frames = vec![Transform::identity(); desc.bones.len()];
+        for &i in &topo.order {
             let b = &desc.bones[i];
             let origin = Point3::from(b.origin);
-            if i == root {
-                frames.push(Transform::new(origin.coords, Vec3::zeros()));
+            if i == topo.root {
+                frames[i] = Transform::new(origin.coords, Vec3::zeros());
                 continue;
             }
-            let end = match (children[i].as_slice(), b.tip) {
+            let end = match (topo.children[i].as_slice(), b.tip) {
                 ([], Some(tip)) => Point3::from(tip),
                 ([], None) => return Err(HandError::MissingTip(b.name.clone())),
                 ([_], Some(_)) => return Err(HandError::MisplacedTip(b.name.clone())),
@@ -198,161 +450,88 @@ impl HandModel {
                 return Err(HandError::DegenerateFrame(b.name.clone()));
             }
             let y = y.normalize();
-            let x = y.cross(&z);
-            let m = nalgebra::Matrix3::from_columns(&[x, y, z]);
+            let m = nalgebra::Matrix3::from_columns(&[y.cross(&z), y, z]);
             let rot =
                 Rotation::from_rotation_matrix(&nalgebra::Rotation3::from_matrix_unchecked(m));
-            frames.push(Transform::from_parts(origin.coords.into(), rot));
+            frames[i] = Transform::from_parts(origin.coords.into(), rot);
         }
-        let mut bones = Vec::with_capacity(n);
-        let mut dof = 0;
-        for (k, &i) in order.iter().enumerate() {
-            let b = &desc.bones[i];
-            let p = parent[i].map(|p| new_index[p]);
-            let rest = match p {
-                Some(p) => frames[p].inverse() * frames[k],
-                None => frames[k],
-            };
-            let joint = joint_from(&b.joint);
-            let dofs = joint.dofs();
-            bones.push(Bone {
-                name: b.name.clone(),
-                parent: p,
-                rest,
-                joint,
-                first_dof: dof,
-                finger: None,
-            });
-            dof += dofs;
-        }
-        // Fingers: one chain per child of the root.
-        let mut fingers = Vec::new();
-        let mut chain_predecessor = vec![None; n];
-        for &c in &children[root] {
-            let mut chain = vec![new_index[c]];
-            let mut at = c;
-            while let [next] = children[at].as_slice() {
-                chain_predecessor[new_index[*next]] = Some(new_index[at]);
-                chain.push(new_index[*next]);
-                at = *next;
-            }
-            let last = &desc.bones[at];
-            let tip_hand = Point3::from(last.tip.expect("leaf tips checked above"));
-            let tip = frames[new_index[at]].inverse_transform_point(&tip_hand);
-            let name = desc.bones[c]
-                .finger
-                .clone()
-                .unwrap_or_else(|| desc.bones[c].name.clone());
-            if fingers.iter().any(|f: &Finger| f.name == name) {
-                return Err(HandError::Invalid(format!(
-                    "two fingers are named '{name}'; set a distinct `finger` on their first bones"
-                )));
-            }
-            for &bi in &chain {
-                bones[bi].finger = Some(fingers.len());
-            }
-            fingers.push(Finger {
-                name,
-                bones: chain,
-                tip,
-            });
-        }
-        if fingers.len() < 2 {
-            return Err(HandError::TooFewFingers(fingers.len()));
-        }
-        // Capsules: the root gets one to each child's joint; every other bone one along itself.
-        let mut capsules = Vec::new();
-        for (k, bone) in bones.iter().enumerate() {
-            let radius = desc.bones[order[k]].radius;
-            if k == 0 {
-                for &c in &children[root] {
-                    let b = bones[new_index[c]].rest.translation.vector;
-                    capsules.push(BoneCapsule {
-                        bone: 0,
-                        a: Point3::origin(),
-                        b: Point3::from(b),
-                        radius,
-                    });
-                }
-            } else {
-                let finger = &fingers[bone.finger.expect("non-root bones are in fingers")];
-                let end = if *finger.bones.last().unwrap() == k {
-                    finger.tip
-                } else {
-                    let next = finger.bones[finger.bones.iter().position(|&x| x == k).unwrap() + 1];
-                    Point3::from(bones[next].rest.translation.vector)
-                };
-                capsules.push(BoneCapsule {
-                    bone: k,
-                    a: Point3::origin(),
-                    b: end,
-                    radius,
-                });
-            }
-        }
-        let mut capsule_ranges = vec![0..0; n];
-        for (k, range) in capsule_ranges.iter_mut().enumerate() {
-            let first = capsules.iter().position(|c| c.bone == k).unwrap_or(0);
-            let count = capsules.iter().filter(|c| c.bone == k).count();
-            *range = first..first + count;
-        }
-        let mut model = HandModel {
-            name: desc.name.clone(),
-            description: desc.description.clone(),
-            bones,
-            capsules,
-            fingers,
-            couplings: Vec::new(),
-            movements: Vec::new(),
-            dof_count: dof,
-            chain_predecessor,
-            capsule_ranges,
-            dof_names: Vec::new(),
-        };
-        model.dof_names = model
+        let bones = desc
             .bones
             .iter()
-            .flat_map(|b| {
-                let suffixes: &[&str] = match b.joint {
-                    Joint::Fixed => &[],
-                    Joint::Hinge(_) => &["flexion"],
-                    Joint::TwoAxis { .. } => &["flexion", "abduction"],
-                    Joint::Ball { .. } => &["x", "y", "z"],
+            .enumerate()
+            .map(|(i, b)| {
+                let rest = match topo_parent(&names, &b.parent) {
+                    Some(p) => frames[p].inverse() * frames[i],
+                    None => frames[i],
                 };
-                suffixes.iter().map(move |s| format!("{}.{s}", b.name))
+                let joint = joint_from(&b.joint);
+                let suffixes = dof_suffixes(&joint);
+                // The root reaches to each finger's first joint; every other bone along itself.
+                let capsules = if i == topo.root {
+                    topo.children[i]
+                        .iter()
+                        .map(|&c| {
+                            (
+                                Point3::origin(),
+                                frames[i]
+                                    .inverse_transform_point(&Point3::from(desc.bones[c].origin)),
+                                b.radius,
+                            )
+                        })
+                        .collect()
+                } else {
+                    let end = match topo.children[i].as_slice() {
+                        [c] => Point3::from(desc.bones[*c].origin),
+                        _ => Point3::from(b.tip.expect("checked above")),
+                    };
+                    vec![(
+                        Point3::origin(),
+                        frames[i].inverse_transform_point(&end),
+                        b.radius,
+                    )]
+                };
+                BonePart {
+                    name: b.name.clone(),
+                    parent: b.parent.clone(),
+                    rest,
+                    joint,
+                    dof_names: suffixes.iter().map(|s| format!("{}.{s}", b.name)).collect(),
+                    capsules,
+                    tip: b
+                        .tip
+                        .map(|t| frames[i].inverse_transform_point(&Point3::from(t))),
+                    finger: b.finger.clone(),
+                }
             })
             .collect();
-        model.couplings = desc
+        let couplings = desc
             .couplings
             .iter()
             .map(|c| {
-                let dof_of = |name: &str| -> Result<usize, HandError> {
-                    let i = model.bone_index(name).ok_or_else(|| {
-                        HandError::Invalid(format!("coupling names bone '{name}', which does not exist"))
+                let dof_name = |bone: &str| -> Result<String, HandError> {
+                    let b = desc.bones.iter().find(|b| b.name == bone).ok_or_else(|| {
+                        HandError::Invalid(format!("coupling names bone '{bone}', which does not exist"))
                     })?;
-                    let b = &model.bones[i];
-                    if c.dof >= b.joint.dofs() {
-                        return Err(HandError::Invalid(format!(
-                            "coupling uses degree of freedom {} of bone '{name}', whose joint has {}",
+                    let suffixes = dof_suffixes(&joint_from(&b.joint));
+                    let suffix = suffixes.get(c.dof).ok_or_else(|| {
+                        HandError::Invalid(format!(
+                            "coupling uses degree of freedom {} of bone '{bone}', whose joint has {}",
                             c.dof,
-                            b.joint.dofs()
-                        )));
-                    }
-                    Ok(b.first_dof + c.dof)
+                            suffixes.len()
+                        ))
+                    })?;
+                    Ok(format!("{bone}.{suffix}"))
                 };
-                if !c.ratio.is_finite() {
-                    return Err(HandError::Invalid(format!(
-                        "coupling of '{}' has a non-finite ratio",
-                        c.follower
-                    )));
-                }
-                Ok(Coupling {
-                    follower: dof_of(&c.follower)?,
-                    leader: dof_of(&c.leader)?,
-                    ratio: c.ratio,
-                })
+                Ok((dof_name(&c.follower)?, dof_name(&c.leader)?, c.ratio))
             })
-            .collect::<Result<_, _>>()?;
+            .collect::<Result<_, HandError>>()?;
+        let parts = HandParts {
+            name: desc.name.clone(),
+            description: desc.description.clone(),
+            bones,
+            couplings,
+        };
+        let mut model = Self::assemble(&parts)?;
         let mut movements = Vec::new();
         for m in &desc.movements {
             movements.push(GraspMovement::from_description(&model, m)?);
@@ -374,6 +553,23 @@ impl HandModel {
         forward_kinematics(self, root, rotations, &mut out);
         out
     }
+}
+
+/// Names of a TOML joint's degrees of freedom after the bone's name.
+fn dof_suffixes(joint: &Joint) -> &'static [&'static str] {
+    match joint {
+        Joint::Fixed => &[],
+        Joint::Hinge(_) => &["flexion"],
+        Joint::TwoAxis { .. } => &["flexion", "abduction"],
+        Joint::Ball { .. } => &["x", "y", "z"],
+    }
+}
+
+/// Index of the parent named `parent`.
+fn topo_parent(names: &[&str], parent: &Option<String>) -> Option<usize> {
+    parent
+        .as_ref()
+        .and_then(|p| names.iter().position(|n| n == p))
 }
 
 fn joint_from(j: &JointDescription) -> Joint {

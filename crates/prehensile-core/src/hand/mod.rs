@@ -6,7 +6,7 @@ mod build;
 mod description;
 mod model;
 
-pub use build::HandError;
+pub use build::{BonePart, HandError, HandParts};
 pub use description::{
     BoneDescription, CouplingDescription, HandDescription, JointDescription, MovementDescription,
 };
