@@ -139,14 +139,20 @@ impl GraspMovement {
     /// The generic movement every hand gets: from the open pose (all angles zero, clamped into the
     /// limits) to every flexion at its upper limit; grasp center between the fingertips half-way.
     pub fn generic_close(hand: &HandModel) -> Self {
-        let mut start = vec![0.0; hand.dof_count()];
-        hand.constrain(&mut start);
-        let mut end = start.clone();
+        let mut end = vec![0.0; hand.dof_count()];
         for bone in hand.bones().iter().skip(1) {
             if bone.joint.dofs() > 0 && !matches!(bone.joint, crate::hand::Joint::Ball { .. }) {
                 end[bone.first_dof] = bone.joint.limits(0)[1];
             }
         }
+        Self::close_to(hand, end)
+    }
+
+    /// A `close` movement from the open pose to the given end angles (limits and couplings
+    /// applied), grasp center between the fingertips half-way.
+    pub fn close_to(hand: &HandModel, mut end: Vec<f64>) -> Self {
+        let mut start = vec![0.0; hand.dof_count()];
+        hand.constrain(&mut start);
         hand.constrain(&mut end);
         let mut m = Self::from_angles(hand, "close", start, end, Point3::origin());
         let all: Vec<usize> = (0..hand.fingers().len()).collect();

@@ -33,9 +33,19 @@ pub fn parse_hand_toml(text: &str, source_name: &str) -> Result<HandModel, Forma
     HandModel::from_description(&desc).map_err(|e| FormatError::new(source_name, e.to_string()))
 }
 
-/// Reads a hand file.
+/// Reads a hand file: `.toml` (our format) or `.urdf`.
 pub fn load_hand(path: &Path) -> Result<HandModel, FormatError> {
     let name = path.display().to_string();
+    match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
+        Some("urdf") => return crate::load_hand_urdf(path),
+        Some("toml") => {}
+        other => {
+            return Err(FormatError::new(
+                &name,
+                format!("unknown hand file extension {other:?}; use .toml or .urdf (MJCF and glTF hands are not supported yet)"),
+            ))
+        }
+    }
     let text = std::fs::read_to_string(path)
         .map_err(|e| FormatError::new(&name, format!("cannot read the file: {e}")))?;
     parse_hand_toml(&text, &name)

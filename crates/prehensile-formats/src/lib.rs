@@ -1,12 +1,14 @@
 //! # prehensile-formats
 //!
 //! Reading and writing for Prehensile: meshes (OBJ, STL ascii and binary, PLY ascii and binary)
-//! and hand descriptions (TOML), plus the built-in hands. Builds core types; knows nothing of
+//! and hands (TOML, URDF), plus the built-in hands. Builds core types; knows nothing of
 //! physics engines. Every error names the file, the line or element, and the reason.
 #![warn(missing_docs)]
 
 mod error;
+mod hand_import;
 mod hand_toml;
+mod hand_urdf;
 mod mesh_obj;
 mod mesh_ply;
 mod mesh_stl;
@@ -14,6 +16,7 @@ mod meshes;
 
 pub use error::FormatError;
 pub use hand_toml::{builtin_hand, load_hand, parse_hand_toml, BUILTIN_HANDS};
+pub use hand_urdf::{load_hand_urdf, parse_hand_urdf};
 pub use mesh_obj::parse_obj;
 pub use mesh_ply::parse_ply;
 pub use mesh_stl::parse_stl;

@@ -131,6 +131,9 @@ pub struct HandParts {
     pub bones: Vec<BonePart>,
     /// `(follower, leader, ratio)` by degree-of-freedom name.
     pub couplings: Vec<(String, String, f64)>,
+    /// End angles of the generic `close` movement by degree-of-freedom name (others stay at the
+    /// open pose); empty: every flexion to its upper limit.
+    pub close: Vec<(String, f64)>,
 }
 
 /// Parents-first order, children and root of a bone tree, checked.
@@ -237,7 +240,20 @@ impl HandModel {
     /// Validates bones given directly and builds the model, with the generic `close` movement.
     pub fn from_parts(parts: HandParts) -> Result<Self, HandError> {
         let mut model = Self::assemble(&parts)?;
-        model.movements = vec![GraspMovement::generic_close(&model)];
+        let close = if parts.close.is_empty() {
+            GraspMovement::generic_close(&model)
+        } else {
+            let mut end = vec![0.0; model.dof_count];
+            model.constrain(&mut end);
+            for (name, angle) in &parts.close {
+                let k = model.dof_names.iter().position(|d| d == name).ok_or_else(|| {
+                    HandError::Invalid(format!("the close movement names '{name}', which is no degree of freedom of this hand"))
+                })?;
+                end[k] = *angle;
+            }
+            GraspMovement::close_to(&model, end)
+        };
+        model.movements = vec![close];
         Ok(model)
     }
 
@@ -530,6 +546,7 @@ impl HandModel {
             description: desc.description.clone(),
             bones,
             couplings,
+            close: Vec::new(),
         };
         let mut model = Self::assemble(&parts)?;
         let mut movements = Vec::new();

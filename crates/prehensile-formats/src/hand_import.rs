@@ -1,0 +1,160 @@
+//! What every imported hand needs beyond its file: finger names, a hand frame in our convention,
+//! radii and fingertips where the file has none.
+
+use prehensile_core::hand::{BonePart, HandParts};
+use prehensile_core::math::{Point3, Rotation, Transform, Vec3};
+use prehensile_core::HandModel;
+
+use crate::FormatError;
+
+/// Density used to guess a capsule's radius from a link's mass and length (water, kg/m³).
+pub const DENSITY: f64 = 1000.0;
+
+/// A capsule radius from mass and length, as if the link were a cylinder of water, clamped to
+/// 2–20 mm.
+pub fn radius_from_mass(mass: f64, length: f64) -> f64 {
+    if !(mass > 0.0 && length > 0.0) {
+        return 0.008;
+    }
+    (mass / (DENSITY * std::f64::consts::PI * length))
+        .sqrt()
+        .clamp(0.002, 0.02)
+}
+
+/// A human finger name recognised in a bone's name (`thumb`/`th`, `index`/`ff`, `middle`/`mf`,
+/// `ring`/`rf`, `little`/`pinky`/`lf`), after any `prefix:`.
+pub fn finger_name(bone: &str) -> Option<&'static str> {
+    let base = bone.rsplit(':').next().unwrap_or(bone).to_ascii_lowercase();
+    let table: [(&[&str], &str); 5] = [
+        (&["thumb", "th"], "thumb"),
+        (&["index", "ff"], "index"),
+        (&["middle", "mf"], "middle"),
+        (&["ring", "rf"], "ring"),
+        (&["little", "pinky", "lf"], "little"),
+    ];
+    table
+        .iter()
+        .find(|(keys, _)| keys.iter().any(|k| base.starts_with(k)))
+        .map(|(_, name)| *name)
+}
+
+/// Builds the model, then re-expresses it in our hand frame: z along the mean direction from the
+/// root to the fingertips, y toward where the generic close movement moves them (out of the
+/// palm). Source joint axes, names and angles are kept; only the root's rest frame turns.
+pub fn build_in_hand_frame(mut parts: HandParts, source: &str) -> Result<HandModel, FormatError> {
+    let err = |e: prehensile_core::HandError| FormatError::new(source, e.to_string());
+    // First estimate of the palm side: move only each finger's last hinge, almost always a
+    // flexion, toward its larger limit.
+    let plain = HandModel::from_parts(parts.clone()).map_err(err)?;
+    parts.close = plain
+        .fingers()
+        .iter()
+        .filter_map(|f| {
+            f.bones
+                .iter()
+                .rev()
+                .find_map(|&b| match plain.bones()[b].joint {
+                    prehensile_core::hand::Joint::Hinge(axis) => {
+                        let [lo, hi] = axis.limits;
+                        let target = if hi.abs() >= lo.abs() { hi } else { lo };
+                        Some((
+                            plain.dof_names()[plain.bones()[b].first_dof].clone(),
+                            target,
+                        ))
+                    }
+                    _ => None,
+                })
+        })
+        .collect();
+    let model = HandModel::from_parts(parts.clone()).map_err(err)?;
+    let close = model.movement("close").expect("every hand has close");
+    let tips = |f: f64| -> Vec<Point3> {
+        let rotations: Vec<Rotation> = (0..model.bones().len())
+            .map(|b| close.rotation_at(b, f))
+            .collect();
+        let world = model.pose_transforms(&Transform::identity(), &rotations);
+        model
+            .fingers()
+            .iter()
+            .map(|finger| world[*finger.bones.last().expect("fingers have bones")] * finger.tip)
+            .collect()
+    };
+    let (open, closed) = (tips(0.0), tips(1.0));
+    let root = model.bones()[0].rest.translation.vector;
+    let along = open
+        .iter()
+        .fold(Vec3::zeros(), |acc, t| acc + (t.coords - root))
+        / open.len() as f64;
+    let curl = open
+        .iter()
+        .zip(&closed)
+        .fold(Vec3::zeros(), |acc, (a, b)| acc + (b - a));
+    if along.norm() < 1e-9 {
+        return Err(FormatError::new(
+            source,
+            "the fingertips sit on the root; cannot tell which way the fingers point",
+        ));
+    }
+    let z = along.normalize();
+    let y = curl - z * curl.dot(&z);
+    if y.norm() < 1e-9 {
+        return Err(FormatError::new(
+            source,
+            "closing the fingers (every joint to its upper limit) does not move the tips toward a palm side; check the joint limits",
+        ));
+    }
+    let y = y.normalize();
+    let frame = Rotation::from_rotation_matrix(&nalgebra::Rotation3::from_matrix_unchecked(
+        nalgebra::Matrix3::from_columns(&[y.cross(&z), y, z]),
+    ));
+    // Current frame of the model = the root link's parent frame; new hand frame = `frame` in it.
+    let to_hand = Transform::from_parts(Default::default(), frame.inverse());
+    let root_name = model.bones()[0].name.clone();
+    for b in parts.bones.iter_mut() {
+        if b.name == root_name {
+            b.rest = to_hand * b.rest;
+        }
+    }
+    // A hinge flexes when its axis runs across the finger and the palm normal; then `close`
+    // turns it toward whichever limit moves its finger's tip toward the palm. Other hinges
+    // (abduction, twist) stay open.
+    let across = z.cross(&y);
+    let rest = vec![Rotation::identity(); model.bones().len()];
+    let world = model.pose_transforms(&Transform::identity(), &rest);
+    parts.close = Vec::new();
+    for (i, bone) in model.bones().iter().enumerate() {
+        let prehensile_core::hand::Joint::Hinge(axis) = bone.joint else {
+            continue;
+        };
+        let Some(fi) = bone.finger else { continue };
+        let world_axis = world[i].rotation * axis.axis.into_inner();
+        if world_axis.dot(&across).abs() < 0.7 {
+            continue;
+        }
+        let finger = &model.fingers()[fi];
+        let tip = world[*finger.bones.last().expect("fingers have bones")] * finger.tip;
+        let joint = Point3::from(world[i].translation.vector);
+        // Turning by +θ about the axis moves the tip along axis × (tip − joint).
+        let toward_palm = world_axis.cross(&(tip - joint)).dot(&y);
+        let [lo, hi] = axis.limits;
+        let target = if toward_palm >= 0.0 { hi } else { lo };
+        parts
+            .close
+            .push((model.dof_names()[bone.first_dof].clone(), target));
+    }
+    HandModel::from_parts(parts).map_err(err)
+}
+
+/// A bone part with the common defaults.
+pub fn bone(name: &str, parent: Option<&str>, rest: Transform) -> BonePart {
+    BonePart {
+        name: name.to_string(),
+        parent: parent.map(str::to_string),
+        rest,
+        joint: prehensile_core::hand::Joint::Fixed,
+        dof_names: Vec::new(),
+        capsules: Vec::new(),
+        tip: None,
+        finger: None,
+    }
+}

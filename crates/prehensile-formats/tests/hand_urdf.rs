@@ -1,0 +1,123 @@
+//! Hands from URDF: the oracle hand tree, and bad files.
+
+use std::path::PathBuf;
+
+use prehensile_core::math::{Point3, Vec3};
+use prehensile_core::search::{GraspPlanner, GraspResult, SearchParams};
+use prehensile_core::shapes::builtin_object;
+use prehensile_core::{ObjectModel, Workspace};
+use prehensile_formats::{load_hand, parse_hand_urdf};
+
+fn urdf_path() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../assets/hands/urdf/hand_tree_public.urdf")
+}
+
+#[test]
+fn the_oracle_hand_tree_imports_with_its_joint_names() {
+    let hand = load_hand(&urdf_path()).unwrap();
+    assert_eq!(hand.bones().len(), 21);
+    assert_eq!(hand.dof_count(), 20);
+    let mut fingers: Vec<&str> = hand.fingers().iter().map(|f| f.name.as_str()).collect();
+    fingers.sort();
+    assert_eq!(fingers, ["index", "little", "middle", "ring", "thumb"]);
+    assert!(hand.dof_names().iter().any(|d| d == "thumb_cmc_abduction"));
+    assert!(hand.dof_names().iter().any(|d| d == "index_distal_flexion"));
+    // Knuckles are zero-length links: no capsule. Phalanges get one each, the palm one per finger.
+    let knuckle = hand.bone_index("index_knuckle").unwrap();
+    assert!(hand.bone_capsules(knuckle).is_empty());
+    let proximal = hand.bone_index("index_proximal").unwrap();
+    let c = hand.bone_capsules(proximal)[0];
+    assert!(((c.b - c.a).norm() - 0.0451539).abs() < 1e-9);
+    // Radius from mass at the density of water: sqrt(0.0126392857 / (1000 π 0.0451539)).
+    assert!(
+        (c.radius - (0.0126392857f64 / (1000.0 * std::f64::consts::PI * 0.0451539)).sqrt()).abs()
+            < 1e-12
+    );
+    assert_eq!(hand.bone_capsules(0).len(), 5);
+}
+
+#[test]
+fn the_oracle_hand_closes_toward_its_palm_and_grasps_a_sphere() {
+    let hand = load_hand(&urdf_path()).unwrap();
+    // In our hand frame the fingers run along +z and curl toward +y.
+    let close = hand.movement("close").unwrap();
+    let tips = |f: f64| {
+        let r: Vec<_> = (0..hand.bones().len())
+            .map(|b| close.rotation_at(b, f))
+            .collect();
+        let w = hand.pose_transforms(&prehensile_core::math::Transform::identity(), &r);
+        let i = hand.finger_index("middle").unwrap();
+        let finger = &hand.fingers()[i];
+        w[*finger.bones.last().unwrap()] * finger.tip
+    };
+    // Half-way through `close` (3 × 46°) the middle fingertip has moved toward the palm, +y.
+    let (open, half) = (tips(0.0), tips(0.5));
+    assert!(open.z > 0.1, "{open:?}");
+    assert!(half.y - open.y > 0.03, "{open:?} -> {half:?}");
+    // Abduction hinges stay open in `close`; flexion hinges move.
+    let dof = |name: &str| hand.dof_names().iter().position(|d| d == name).unwrap();
+    assert_eq!(close.end_angles()[dof("middle_abduction")], 0.0);
+    assert_eq!(close.end_angles()[dof("middle_proximal_flexion")], 1.6);
+    let object = ObjectModel::new(
+        "sphere",
+        builtin_object("sphere").unwrap().scaled(0.8),
+        None,
+    )
+    .unwrap();
+    let mut planner = GraspPlanner::new(
+        &hand,
+        &object,
+        close,
+        Point3::new(-0.3, -0.2, 0.3),
+        SearchParams::default(),
+    )
+    .unwrap();
+    planner.run_to_end();
+    let result = GraspResult::from_planner(&planner, &mut Workspace::new(&hand));
+    assert!(result.valid, "{:?}", result.invalid_reason);
+    assert!(result
+        .joints
+        .iter()
+        .any(|j| j.name == "index_proximal_flexion"));
+    let _ = Vec3::zeros();
+}
+
+#[test]
+fn bad_urdf_is_named() {
+    let text = std::fs::read_to_string(urdf_path()).unwrap();
+    let e = parse_hand_urdf(
+        &text.replace(
+            "type=\"revolute\"><parent link=\"palm\"/><child link=\"index_knuckle\"/>",
+            "type=\"prismatic\"><parent link=\"palm\"/><child link=\"index_knuckle\"/>",
+        ),
+        "h.urdf",
+    )
+    .unwrap_err();
+    assert!(
+        e.reason.contains("prismatic") && e.reason.contains("index_abduction"),
+        "{e}"
+    );
+    assert!(
+        e.location
+            .as_deref()
+            .is_some_and(|l| l.starts_with("line ")),
+        "{e}"
+    );
+    let e = parse_hand_urdf(
+        &text.replace("<mass value=\"0.35\"/>", "<mass value=\"abc\"/>"),
+        "h.urdf",
+    )
+    .unwrap_err();
+    assert!(e.reason.contains("abc"), "{e}");
+    let e = parse_hand_urdf("<robot><link name=\"a\"/>", "h.urdf").unwrap_err();
+    assert!(e.location.is_some(), "{e}");
+    let e = parse_hand_urdf(
+        &text.replace(
+            "<parent link=\"index_middle\"/>",
+            "<parent link=\"nowhere\"/>",
+        ),
+        "h.urdf",
+    )
+    .unwrap_err();
+    assert!(e.reason.contains("not defined"), "{e}");
+}
