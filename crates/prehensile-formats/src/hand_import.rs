@@ -44,28 +44,24 @@ pub fn finger_name(bone: &str) -> Option<&'static str> {
 pub fn build_in_hand_frame(mut parts: HandParts, source: &str) -> Result<HandModel, FormatError> {
     let err = |e: prehensile_core::HandError| FormatError::new(source, e.to_string());
     // First estimate of the palm side: move only each finger's last hinge, almost always a
-    // flexion, toward its larger limit.
+    // flexion, toward its larger limit (the last one no coupling derives from another).
     let plain = HandModel::from_parts(parts.clone()).map_err(err)?;
-    parts.close = plain
-        .fingers()
-        .iter()
-        .filter_map(|f| {
-            f.bones
-                .iter()
-                .rev()
-                .find_map(|&b| match plain.bones()[b].joint {
-                    prehensile_core::hand::Joint::Hinge(axis) => {
-                        let [lo, hi] = axis.limits;
-                        let target = if hi.abs() >= lo.abs() { hi } else { lo };
-                        Some((
-                            plain.dof_names()[plain.bones()[b].first_dof].clone(),
-                            target,
-                        ))
-                    }
-                    _ => None,
-                })
-        })
-        .collect();
+    let followers: Vec<String> = parts.couplings.iter().map(|c| c.0.clone()).collect();
+    let mut first_pass = Vec::new();
+    for finger in plain.fingers() {
+        for &b in finger.bones.iter().rev() {
+            let bone = &plain.bones()[b];
+            let name = &plain.dof_names()[bone.first_dof..bone.first_dof + bone.joint.dofs()];
+            if let (prehensile_core::hand::Joint::Hinge(axis), [name]) = (&bone.joint, name) {
+                if !followers.contains(name) {
+                    let [lo, hi] = axis.limits;
+                    first_pass.push((name.clone(), if hi.abs() >= lo.abs() { hi } else { lo }));
+                    break;
+                }
+            }
+        }
+    }
+    parts.close = first_pass;
     let model = HandModel::from_parts(parts.clone()).map_err(err)?;
     let close = model.movement("close").expect("every hand has close");
     let tips = |f: f64| -> Vec<Point3> {

@@ -33,16 +33,17 @@ pub fn parse_hand_toml(text: &str, source_name: &str) -> Result<HandModel, Forma
     HandModel::from_description(&desc).map_err(|e| FormatError::new(source_name, e.to_string()))
 }
 
-/// Reads a hand file: `.toml` (our format) or `.urdf`.
+/// Reads a hand file: `.toml` (our format), `.urdf`, or `.xml` / `.mjcf` (MuJoCo).
 pub fn load_hand(path: &Path) -> Result<HandModel, FormatError> {
     let name = path.display().to_string();
     match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
         Some("urdf") => return crate::load_hand_urdf(path),
+        Some("xml") | Some("mjcf") => return crate::load_hand_mjcf(path),
         Some("toml") => {}
         other => {
             return Err(FormatError::new(
                 &name,
-                format!("unknown hand file extension {other:?}; use .toml or .urdf (MJCF and glTF hands are not supported yet)"),
+                format!("unknown hand file extension {other:?}; use .toml, .urdf or .xml (MJCF); glTF hands are not supported yet"),
             ))
         }
     }

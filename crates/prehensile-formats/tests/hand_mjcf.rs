@@ -1,0 +1,110 @@
+//! Hands from MJCF: the Shadow hand, and bad files.
+
+use std::path::PathBuf;
+
+use prehensile_core::math::Point3;
+use prehensile_core::search::{GraspPlanner, GraspResult, SearchParams};
+use prehensile_core::shapes::builtin_object;
+use prehensile_core::{ObjectModel, Workspace};
+use prehensile_formats::{load_hand, parse_hand_mjcf};
+
+fn shadow(file: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../assets/hands/shadow_hand")
+        .join(file)
+}
+
+#[test]
+fn the_shadow_hand_imports_from_its_scene_with_joint_names_and_tendons() {
+    let hand = load_hand(&shadow("reach.xml")).unwrap();
+    // Palm + index/middle/ring (knuckle, proximal, middle, distal) + little (metacarpal + 4)
+    // + thumb (base, proximal, hub, middle, distal) = 1 + 12 + 5 + 5.
+    assert_eq!(hand.bones().len(), 23);
+    assert_eq!(
+        hand.dof_count(),
+        22,
+        "24 hinges less the two wrist joints above the palm"
+    );
+    let mut fingers: Vec<&str> = hand.fingers().iter().map(|f| f.name.as_str()).collect();
+    fingers.sort();
+    assert_eq!(fingers, ["index", "little", "middle", "ring", "thumb"]);
+    assert!(hand.dof_names().iter().any(|d| d == "robot0:FFJ3"));
+    assert!(!hand.dof_names().iter().any(|d| d.starts_with("robot0:WRJ")));
+    assert!(
+        hand.description().contains("robot0:wrist"),
+        "{}",
+        hand.description()
+    );
+    assert!(
+        hand.description().contains("robot0:WRJ0"),
+        "{}",
+        hand.description()
+    );
+    // Collision capsules from the file: the index proximal's is radius 1 cm, 4.5 cm long.
+    let proximal = hand.bone_index("robot0:ffproximal").unwrap();
+    let c = hand.bone_capsules(proximal)[0];
+    assert!((c.radius - 0.01).abs() < 1e-12 && ((c.b - c.a).norm() - 0.045).abs() < 1e-9);
+    // The distal tendons couple J0 to J1 in each of the four fingers.
+    assert_eq!(hand.couplings().len(), 4);
+    let ff0 = hand
+        .dof_names()
+        .iter()
+        .position(|d| d == "robot0:FFJ0")
+        .unwrap();
+    let ff1 = hand
+        .dof_names()
+        .iter()
+        .position(|d| d == "robot0:FFJ1")
+        .unwrap();
+    let coupling = hand.couplings().iter().find(|c| c.follower == ff0).unwrap();
+    assert_eq!(coupling.leader, ff1);
+    assert!((coupling.ratio - 0.00805 / 0.00705).abs() < 1e-12);
+}
+
+#[test]
+fn the_shadow_hand_grasps_a_cylinder() {
+    let hand = load_hand(&shadow("reach.xml")).unwrap();
+    let object = ObjectModel::new("cylinder", builtin_object("cylinder").unwrap(), None).unwrap();
+    let close = hand.movement("close").unwrap();
+    let mut planner = GraspPlanner::new(
+        &hand,
+        &object,
+        close,
+        Point3::new(-0.35, -0.2, 0.35),
+        SearchParams::default(),
+    )
+    .unwrap();
+    planner.run_to_end();
+    let result = GraspResult::from_planner(&planner, &mut Workspace::new(&hand));
+    assert!(result.valid, "{:?}", result.invalid_reason);
+    assert!(result.joints.iter().any(|j| j.name == "robot0:FFJ2"));
+}
+
+#[test]
+fn bad_mjcf_is_named() {
+    let text = std::fs::read_to_string(shadow("robot.xml")).unwrap();
+    let slide = text.replace(
+        "name=\"robot0:FFJ2\" type=\"hinge\"",
+        "name=\"robot0:FFJ2\" type=\"slide\"",
+    );
+    let e = parse_hand_mjcf(&slide, "robot.xml").unwrap_err();
+    assert!(
+        e.reason.contains("slide") && e.reason.contains("robot0:FFJ2"),
+        "{e}"
+    );
+    assert!(
+        e.location.as_deref().is_some_and(|l| l.contains("line")),
+        "{e}"
+    );
+    let e = parse_hand_mjcf(
+        &text.replace("pos=\"0 0 0.045\"", "pos=\"0 0 nan\""),
+        "robot.xml",
+    )
+    .unwrap_err();
+    assert!(e.reason.contains("not a list of finite numbers"), "{e}");
+    assert!(parse_hand_mjcf("<mujoco>", "x.xml").is_err());
+    assert!(parse_hand_mjcf("<mujoco></mujoco>", "x.xml")
+        .unwrap_err()
+        .reason
+        .contains("no <body>"));
+}
