@@ -160,6 +160,22 @@ pub fn parse_hand_mjcf(text: &str, source: &str) -> Result<HandModel, FormatErro
         Defaults::collect(d, None, &mut classes);
     }
     let defaults = Defaults { classes };
+    for node in root
+        .descendants()
+        .filter(|n| n.is_element() && !n.has_tag_name("default"))
+    {
+        for name in ["class", "childclass"] {
+            if let Some(c) = node.attribute(name) {
+                if !defaults.classes.contains_key(c) {
+                    return Err(FormatError::at(
+                        source,
+                        at(node),
+                        format!("default class '{c}' is not defined; load the model file that includes its defaults (for the Shadow hand: reach.xml, which includes shared.xml)"),
+                    ));
+                }
+            }
+        }
+    }
     // The body tree with the most joints is the hand.
     let tops: Vec<Node> = root
         .descendants()

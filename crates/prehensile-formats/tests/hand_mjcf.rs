@@ -81,8 +81,27 @@ fn the_shadow_hand_grasps_a_cylinder() {
 }
 
 #[test]
+fn robot_xml_alone_asks_for_its_defaults() {
+    let e = load_hand(&shadow("robot.xml")).unwrap_err();
+    assert!(
+        e.reason.contains("robot0:asset_class") && e.reason.contains("reach.xml"),
+        "{e}"
+    );
+}
+
+#[test]
 fn bad_mjcf_is_named() {
-    let text = std::fs::read_to_string(shadow("robot.xml")).unwrap();
+    // robot.xml with the defaults of shared.xml in front of it, as reach.xml includes them.
+    let shared = std::fs::read_to_string(shadow("shared.xml")).unwrap();
+    let defaults =
+        &shared[shared.find("<default>").unwrap()..shared.rfind("</default>").unwrap() + 10];
+    let robot = std::fs::read_to_string(shadow("robot.xml")).unwrap();
+    let text = robot.replacen(
+        "<mujoco>",
+        &format!("<mujoco><compiler angle=\"radian\"/>{defaults}"),
+        1,
+    );
+    assert!(parse_hand_mjcf(&text, "robot.xml").is_ok());
     let slide = text.replace(
         "name=\"robot0:FFJ2\" type=\"hinge\"",
         "name=\"robot0:FFJ2\" type=\"slide\"",

@@ -13,6 +13,30 @@ fn stl() -> Vec<u8> {
     .unwrap()
 }
 
+fn asset(rel: &str) -> Vec<u8> {
+    std::fs::read(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../assets")
+            .join(rel),
+    )
+    .unwrap()
+}
+
+/// robot.xml with shared.xml's defaults in front of it, as reach.xml includes them.
+fn shadow_with_defaults() -> Vec<u8> {
+    let shared = String::from_utf8(asset("hands/shadow_hand/shared.xml")).unwrap();
+    let defaults =
+        &shared[shared.find("<default>").unwrap()..shared.rfind("</default>").unwrap() + 10];
+    let robot = String::from_utf8(asset("hands/shadow_hand/robot.xml")).unwrap();
+    robot
+        .replacen(
+            "<mujoco>",
+            &format!("<mujoco><compiler angle=\"radian\"/>{defaults}"),
+            1,
+        )
+        .into_bytes()
+}
+
 fn mutate(mut bytes: Vec<u8>, edits: &[(usize, u8)], cut: usize) -> Vec<u8> {
     for &(at, value) in edits {
         if !bytes.is_empty() {
@@ -36,5 +60,18 @@ proptest! {
         let _ = prehensile_formats::parse_ply(&ply, "m.ply");
         let stl = mutate(stl(), &edits, cut % 64);
         let _ = prehensile_formats::parse_stl(&stl, "m.stl");
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(150))]
+
+    /// Mutations inside numbers, names and structure of the URDF and MJCF fixtures.
+    #[test]
+    fn urdf_and_mjcf_survive_mutation(edits in proptest::collection::vec((any::<usize>(), prop::sample::select(b"0-9. <>/\"aezn".to_vec())), 1..6), cut in any::<usize>()) {
+        let urdf = mutate(asset("hands/urdf/hand_tree_public.urdf"), &edits, cut % 16);
+        let _ = prehensile_formats::parse_hand_urdf(&String::from_utf8_lossy(&urdf), "m.urdf");
+        let mjcf = mutate(shadow_with_defaults(), &edits, cut % 16);
+        let _ = prehensile_formats::parse_hand_mjcf(&String::from_utf8_lossy(&mjcf), "m.xml");
     }
 }
