@@ -90,6 +90,10 @@ pub struct GraspArgs {
     /// Write a picture of the grasp (SVG) here.
     #[arg(long)]
     pub svg: Option<PathBuf>,
+    /// Write a glTF binary scene here: the object, the hand's capsules and an animation of the
+    /// approach and closing (opens in Blender and three.js).
+    #[arg(long)]
+    pub glb: Option<PathBuf>,
 }
 
 /// `prehensile demo`.

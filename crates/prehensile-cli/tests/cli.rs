@@ -147,6 +147,41 @@ fn grasp_writes_a_result_an_independent_program_can_check() {
 }
 
 #[test]
+fn grasp_writes_a_gltf_scene_and_imported_hands_work() {
+    let glb = scratch("shadow.glb");
+    let out = prehensile(&[
+        "grasp",
+        "--hand",
+        &asset("hands/shadow_hand/reach.xml"),
+        "--object",
+        "cylinder",
+        "--glb",
+        glb.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let bytes = std::fs::read(&glb).unwrap();
+    assert_eq!(&bytes[..4], b"glTF");
+    assert_eq!(
+        u32::from_le_bytes(bytes[8..12].try_into().unwrap()) as usize,
+        bytes.len()
+    );
+    let out = prehensile(&[
+        "hands",
+        "--file",
+        &asset("hands/urdf/hand_tree_public.urdf"),
+        "--json",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let out = prehensile(&["hands", "--file", &asset("hands/shadow_hand/robot.xml")]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        text(&out.stderr).contains("reach.xml"),
+        "{}",
+        text(&out.stderr)
+    );
+}
+
+#[test]
 fn grasp_is_reproducible_with_a_seed() {
     let run = || {
         let out = prehensile(&[

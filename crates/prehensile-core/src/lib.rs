@@ -15,6 +15,7 @@
 //! ```
 #![warn(missing_docs)]
 
+pub mod animation;
 pub mod collision;
 pub mod finger_closing;
 pub mod geometry;

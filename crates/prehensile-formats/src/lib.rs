@@ -6,6 +6,7 @@
 #![warn(missing_docs)]
 
 mod error;
+mod glb;
 mod hand_import;
 mod hand_mjcf;
 mod hand_toml;
@@ -16,6 +17,7 @@ mod mesh_stl;
 mod meshes;
 
 pub use error::FormatError;
+pub use glb::grasp_glb;
 pub use hand_mjcf::{load_hand_mjcf, parse_hand_mjcf};
 pub use hand_toml::{builtin_hand, load_hand, parse_hand_toml, BUILTIN_HANDS};
 pub use hand_urdf::{load_hand_urdf, parse_hand_urdf};

@@ -8,7 +8,7 @@ use prehensile_core::shapes::BUILTIN_OBJECTS;
 use prehensile_formats::BUILTIN_HANDS;
 
 use crate::args::DemoArgs;
-use crate::commands::grasp::{default_shoulder, search, Request};
+use crate::commands::grasp::{default_shoulder, glb_bytes, search, Request};
 use crate::{picture, sources, CliError};
 
 /// Runs the demo and writes `<hand>-<object>.json`, `.svg` and an `index.html` gallery.
@@ -56,6 +56,9 @@ pub fn run(args: &DemoArgs) -> Result<i32, CliError> {
                 &args.out.join(format!("{stem}.svg")),
                 &picture::grasp_svg(object, &result),
             )?;
+            let glb = args.out.join(format!("{stem}.glb"));
+            std::fs::write(&glb, glb_bytes(hand, object, &result)?)
+                .map_err(|e| CliError(format!("cannot write {}: {e}", glb.display())))?;
             if !result.valid {
                 invalid += 1;
             }
@@ -71,7 +74,7 @@ pub fn run(args: &DemoArgs) -> Result<i32, CliError> {
             ));
             let _ = writeln!(
                 gallery,
-                "<figure><img src=\"{stem}.svg\" width=520><figcaption>{} on {}: {} grasp, {}, fingers touching: {}</figcaption></figure>",
+                "<figure><img src=\"{stem}.svg\" width=520><figcaption>{} on {}: {} grasp, {}, fingers touching: {} (<a href=\"{stem}.glb\">glTF scene</a>)</figcaption></figure>",
                 hand.name(),
                 object.name(),
                 result.movement,
@@ -87,7 +90,7 @@ pub fn run(args: &DemoArgs) -> Result<i32, CliError> {
         println!("{line}");
     }
     println!(
-        "\nwrote {} results (JSON + SVG) and {}; open it in a browser",
+        "\nwrote {} results (JSON, SVG picture, animated glTF scene) and {}; open it in a browser",
         hands.len() * objects.len(),
         args.out.join("index.html").display()
     );

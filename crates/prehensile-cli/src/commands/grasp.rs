@@ -153,6 +153,38 @@ pub fn search(req: &Request) -> Result<(GraspResult, Duration), CliError> {
     Ok((best.expect("at least one movement"), began.elapsed()))
 }
 
+/// The grasp as a glTF binary scene with the approach-and-close animation.
+pub fn glb_bytes(
+    hand: &HandModel,
+    object: &ObjectModel,
+    result: &GraspResult,
+) -> Result<Vec<u8>, CliError> {
+    let movement = hand.movement(&result.movement).ok_or_else(|| {
+        CliError(format!(
+            "the result names movement '{}', which the hand lacks",
+            result.movement
+        ))
+    })?;
+    let q = result.hook_rotation_xyzw;
+    let hook = prehensile_core::math::Transform::from_parts(
+        Point3::from(result.hook).coords.into(),
+        nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
+            q[3], q[0], q[1], q[2],
+        )),
+    );
+    let fractions: Vec<f64> = result.bones.iter().map(|b| b.fraction).collect();
+    let frames = prehensile_core::animation::approach_and_close(
+        hand,
+        movement,
+        &hook,
+        result.offset,
+        &fractions,
+        0.1,
+        12,
+    );
+    Ok(prehensile_formats::grasp_glb(object.mesh(), hand, &frames))
+}
+
 /// Parses `--up`.
 pub fn up_axis(s: &str) -> Result<Vec3, CliError> {
     match s {
@@ -210,8 +242,12 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
     match &args.out {
         Some(path) => std::fs::write(path, &json)
             .map_err(|e| CliError(format!("cannot write {}: {e}", path.display())))?,
-        None if args.svg.is_none() => println!("{json}"),
+        None if args.svg.is_none() && args.glb.is_none() => println!("{json}"),
         None => {}
+    }
+    if let Some(path) = &args.glb {
+        std::fs::write(path, glb_bytes(&hand, &object, &result)?)
+            .map_err(|e| CliError(format!("cannot write {}: {e}", path.display())))?;
     }
     if let Some(path) = &args.svg {
         std::fs::write(path, picture::grasp_svg(&object, &result))

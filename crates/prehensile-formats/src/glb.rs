@@ -1,0 +1,257 @@
+//! glTF 2.0 binary (GLB) export of a grasp: the object, the hand as a hierarchy of bone nodes
+//! carrying capsule meshes, and an animation of the hand approaching and closing.
+//!
+//! Written by hand: the `gltf` crate reads glTF but does not build files, and a GLB is a JSON
+//! header plus one binary buffer. Checked in tests by reading it back with the `gltf` crate and
+//! in CI with the Khronos glTF validator.
+
+use prehensile_core::animation::Keyframe;
+use prehensile_core::math::{Point3, Transform, Vec3};
+use prehensile_core::{HandModel, TriangleMesh};
+use serde_json::{json, Value};
+
+/// Segments around a capsule, and rings per hemisphere.
+const AROUND: usize = 12;
+const RINGS: usize = 3;
+
+#[derive(Default)]
+struct Builder {
+    bin: Vec<u8>,
+    views: Vec<Value>,
+    accessors: Vec<Value>,
+}
+
+impl Builder {
+    fn view(&mut self, bytes: &[u8], target: Option<u32>) -> usize {
+        while self.bin.len() % 4 != 0 {
+            self.bin.push(0);
+        }
+        let mut v = json!({"buffer": 0, "byteOffset": self.bin.len(), "byteLength": bytes.len()});
+        if let Some(t) = target {
+            v["target"] = json!(t);
+        }
+        self.bin.extend_from_slice(bytes);
+        self.views.push(v);
+        self.views.len() - 1
+    }
+
+    fn floats(
+        &mut self,
+        values: &[f32],
+        kind: &str,
+        width: usize,
+        target: Option<u32>,
+        bounds: bool,
+    ) -> usize {
+        let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
+        let view = self.view(&bytes, target);
+        let mut a = json!({"bufferView": view, "componentType": 5126, "count": values.len() / width, "type": kind});
+        if bounds {
+            let (mut lo, mut hi) = (vec![f32::INFINITY; width], vec![f32::NEG_INFINITY; width]);
+            for chunk in values.chunks(width) {
+                for (k, v) in chunk.iter().enumerate() {
+                    lo[k] = lo[k].min(*v);
+                    hi[k] = hi[k].max(*v);
+                }
+            }
+            a["min"] = json!(lo);
+            a["max"] = json!(hi);
+        }
+        self.accessors.push(a);
+        self.accessors.len() - 1
+    }
+
+    fn indices(&mut self, values: &[u32]) -> usize {
+        let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
+        let view = self.view(&bytes, Some(34963));
+        self.accessors
+            .push(json!({"bufferView": view, "componentType": 5125, "count": values.len(), "type": "SCALAR"}));
+        self.accessors.len() - 1
+    }
+
+    fn mesh(&mut self, positions: &[Point3], triangles: &[[u32; 3]], material: usize) -> Value {
+        let p: Vec<f32> = positions
+            .iter()
+            .flat_map(|v| [v.x as f32, v.y as f32, v.z as f32])
+            .collect();
+        let position = self.floats(&p, "VEC3", 3, Some(34962), true);
+        let idx: Vec<u32> = triangles.iter().flatten().copied().collect();
+        let indices = self.indices(&idx);
+        json!({"primitives": [{"attributes": {"POSITION": position}, "indices": indices, "material": material}]})
+    }
+}
+
+/// Triangles of a capsule from `a` to `b` with `radius`, appended to `positions`/`triangles`.
+fn capsule_triangles(
+    a: &Point3,
+    b: &Point3,
+    radius: f64,
+    positions: &mut Vec<Point3>,
+    triangles: &mut Vec<[u32; 3]>,
+) {
+    let axis = b - a;
+    let w = if axis.norm() > 1e-12 {
+        axis.normalize()
+    } else {
+        Vec3::z()
+    };
+    let helper = if w.x.abs() < 0.9 {
+        Vec3::x()
+    } else {
+        Vec3::y()
+    };
+    let u = w.cross(&helper).normalize();
+    let v = w.cross(&u);
+    let first = positions.len() as u32;
+    // Rings from the bottom pole to the top pole: hemisphere at a, hemisphere at b.
+    let mut rings: Vec<(Point3, f64, f64)> = Vec::new(); // (centre, ring radius, axial offset)
+    for k in 0..=RINGS {
+        let phi = std::f64::consts::FRAC_PI_2 * (1.0 - k as f64 / RINGS as f64);
+        rings.push((*a, radius * phi.cos(), -radius * phi.sin()));
+    }
+    for k in 0..=RINGS {
+        let phi = std::f64::consts::FRAC_PI_2 * (k as f64 / RINGS as f64);
+        rings.push((*b, radius * phi.cos(), radius * phi.sin()));
+    }
+    for (centre, r, dz) in &rings {
+        for i in 0..AROUND {
+            let t = std::f64::consts::TAU * i as f64 / AROUND as f64;
+            positions.push(centre + w * *dz + (u * t.cos() + v * t.sin()) * *r);
+        }
+    }
+    let id = |ring: usize, i: usize| first + (ring * AROUND + i % AROUND) as u32;
+    for ring in 0..rings.len() - 1 {
+        for i in 0..AROUND {
+            triangles.push([id(ring, i), id(ring, i + 1), id(ring + 1, i + 1)]);
+            triangles.push([id(ring, i), id(ring + 1, i + 1), id(ring + 1, i)]);
+        }
+    }
+}
+
+fn trs(t: &Transform) -> (Vec<f64>, Vec<f64>) {
+    let q = t.rotation.quaternion();
+    (
+        t.translation.vector.iter().copied().collect(),
+        vec![q.i, q.j, q.k, q.w],
+    )
+}
+
+/// A GLB with the object mesh, the hand's bones (capsule meshes) and their animation over the
+/// keyframes. Coordinates are the object's frame, metres.
+pub fn grasp_glb(object: &TriangleMesh, hand: &HandModel, keyframes: &[Keyframe]) -> Vec<u8> {
+    let mut b = Builder::default();
+    let materials = json!([
+        {"name": "object", "pbrMetallicRoughness": {"baseColorFactor": [0.75, 0.75, 0.78, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.8}},
+        {"name": "hand", "pbrMetallicRoughness": {"baseColorFactor": [0.86, 0.55, 0.42, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.6}}
+    ]);
+    let tris: Vec<[u32; 3]> = object.triangles.clone();
+    let mut meshes = vec![b.mesh(&object.vertices, &tris, 0)];
+    let mut nodes = vec![json!({"name": "object", "mesh": 0})];
+    let first_bone = nodes.len();
+    let rest_pose = |k: usize| -> Transform {
+        let bone = &hand.bones()[k];
+        let local =
+            bone.rest * Transform::from_parts(Default::default(), keyframes[0].rotations[k]);
+        if bone.parent.is_none() {
+            keyframes[0].root * local
+        } else {
+            local
+        }
+    };
+    for (k, bone) in hand.bones().iter().enumerate() {
+        let (translation, rotation) = trs(&rest_pose(k));
+        let mut node = json!({"name": bone.name, "translation": translation, "rotation": rotation});
+        let children: Vec<usize> = hand
+            .bones()
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.parent == Some(k))
+            .map(|(i, _)| first_bone + i)
+            .collect();
+        if !children.is_empty() {
+            node["children"] = json!(children);
+        }
+        let capsules = hand.bone_capsules(k);
+        if !capsules.is_empty() {
+            let (mut p, mut t) = (Vec::new(), Vec::new());
+            for c in capsules {
+                capsule_triangles(&c.a, &c.b, c.radius, &mut p, &mut t);
+            }
+            node["mesh"] = json!(meshes.len());
+            meshes.push(b.mesh(&p, &t, 1));
+        }
+        nodes.push(node);
+    }
+    let mut animations = Vec::new();
+    if keyframes.len() > 1 {
+        let times: Vec<f32> = keyframes.iter().map(|k| k.time as f32).collect();
+        let input = b.floats(&times, "SCALAR", 1, None, true);
+        let (mut samplers, mut channels) = (Vec::new(), Vec::new());
+        for (k, bone) in hand.bones().iter().enumerate() {
+            let locals: Vec<Transform> = keyframes
+                .iter()
+                .map(|f| {
+                    let local =
+                        bone.rest * Transform::from_parts(Default::default(), f.rotations[k]);
+                    if bone.parent.is_none() {
+                        f.root * local
+                    } else {
+                        local
+                    }
+                })
+                .collect();
+            let rotations: Vec<f32> = locals
+                .iter()
+                .flat_map(|t| trs(t).1.into_iter().map(|v| v as f32))
+                .collect();
+            let output = b.floats(&rotations, "VEC4", 4, None, false);
+            samplers.push(json!({"input": input, "output": output, "interpolation": "LINEAR"}));
+            channels.push(json!({"sampler": samplers.len() - 1, "target": {"node": first_bone + k, "path": "rotation"}}));
+            if bone.parent.is_none() {
+                let translations: Vec<f32> = locals
+                    .iter()
+                    .flat_map(|t| trs(t).0.into_iter().map(|v| v as f32))
+                    .collect();
+                let output = b.floats(&translations, "VEC3", 3, None, false);
+                samplers.push(json!({"input": input, "output": output, "interpolation": "LINEAR"}));
+                channels.push(json!({"sampler": samplers.len() - 1, "target": {"node": first_bone, "path": "translation"}}));
+            }
+        }
+        animations.push(
+            json!({"name": "approach and close", "samplers": samplers, "channels": channels}),
+        );
+    }
+    while b.bin.len() % 4 != 0 {
+        b.bin.push(0);
+    }
+    let mut doc = json!({
+        "asset": {"version": "2.0", "generator": concat!("prehensile ", env!("CARGO_PKG_VERSION"))},
+        "scene": 0,
+        "scenes": [{"nodes": [0, first_bone]}],
+        "nodes": nodes,
+        "meshes": meshes,
+        "materials": materials,
+        "accessors": b.accessors,
+        "bufferViews": b.views,
+        "buffers": [{"byteLength": b.bin.len()}],
+    });
+    if !animations.is_empty() {
+        doc["animations"] = json!(animations);
+    }
+    let mut text = serde_json::to_vec(&doc).expect("JSON values serialize");
+    while text.len() % 4 != 0 {
+        text.push(b' ');
+    }
+    let total = 12 + 8 + text.len() + 8 + b.bin.len();
+    let mut out = Vec::with_capacity(total);
+    out.extend_from_slice(b"glTF");
+    out.extend_from_slice(&2u32.to_le_bytes());
+    out.extend_from_slice(&(total as u32).to_le_bytes());
+    out.extend_from_slice(&(text.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"JSON");
+    out.extend_from_slice(&text);
+    out.extend_from_slice(&(b.bin.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"BIN\0");
+    out.extend_from_slice(&b.bin);
+    out
+}
