@@ -2,7 +2,29 @@
 
 use std::path::PathBuf;
 
-use clap::{Args, Parser, Subcommand};
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+/// Length unit of a mesh file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Units {
+    /// Millimetres.
+    Mm,
+    /// Centimetres.
+    Cm,
+    /// Metres.
+    M,
+}
+
+impl Units {
+    /// Metres per unit.
+    pub fn metres(self) -> f64 {
+        match self {
+            Units::Mm => 0.001,
+            Units::Cm => 0.01,
+            Units::M => 1.0,
+        }
+    }
+}
 
 /// Grasp poses for virtual hands on closed meshes.
 #[derive(Debug, Parser)]
@@ -31,9 +53,12 @@ pub enum Command {
 pub struct CheckArgs {
     /// Mesh file (.obj, .stl, .ply).
     pub mesh: PathBuf,
-    /// Multiply coordinates by this factor (e.g. 0.001 for millimetres).
+    /// Multiply coordinates by this factor (after --units).
     #[arg(long, default_value_t = 1.0)]
     pub scale: f64,
+    /// The file's length unit.
+    #[arg(long, value_enum, default_value = "m")]
+    pub units: Units,
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
@@ -59,9 +84,12 @@ pub struct GraspArgs {
     /// A built-in object (sphere, box, cylinder, torus, mug) or a mesh file (.obj, .stl, .ply).
     #[arg(long, default_value = "sphere")]
     pub object: String,
-    /// Multiply the mesh's coordinates by this factor.
+    /// Multiply the mesh's coordinates by this factor (after --units).
     #[arg(long, default_value_t = 1.0)]
     pub scale: f64,
+    /// The mesh file's length unit.
+    #[arg(long, value_enum, default_value = "m")]
+    pub units: Units,
     /// power, precision, close, any movement of the hand, or auto (try each, keep the best).
     #[arg(long, default_value = "auto")]
     pub movement: String,

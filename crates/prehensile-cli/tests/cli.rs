@@ -237,3 +237,24 @@ fn weights_change_the_search_and_bad_weights_are_refused() {
         text(&out.stderr)
     );
 }
+
+#[test]
+fn units_scale_a_mesh() {
+    let out = prehensile(&[
+        "check",
+        &asset("objects/robosuite_can.obj"),
+        "--units",
+        "mm",
+        "--json",
+    ]);
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let size = report["size"][2].as_f64().unwrap();
+    assert!((size - 0.08 * 0.001).abs() < 1e-4 * 0.001, "{size}");
+    let out = prehensile(&[
+        "check",
+        &asset("objects/robosuite_can.obj"),
+        "--units",
+        "furlong",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+}

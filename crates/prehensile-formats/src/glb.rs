@@ -137,8 +137,19 @@ fn trs(t: &Transform) -> (Vec<f64>, Vec<f64>) {
 }
 
 /// A GLB with the object mesh, the hand's bones (capsule meshes) and their animation over the
-/// keyframes. Coordinates are the object's frame, metres.
+/// keyframes (none: the hand in its rest pose at the origin). Coordinates are the object's
+/// frame, metres.
 pub fn grasp_glb(object: &TriangleMesh, hand: &HandModel, keyframes: &[Keyframe]) -> Vec<u8> {
+    let rest = [Keyframe {
+        time: 0.0,
+        root: Transform::identity(),
+        rotations: vec![Default::default(); hand.bones().len()],
+    }];
+    let keyframes = if keyframes.is_empty() {
+        &rest[..]
+    } else {
+        keyframes
+    };
     let mut b = Builder::default();
     let materials = json!([
         {"name": "object", "pbrMetallicRoughness": {"baseColorFactor": [0.75, 0.75, 0.78, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.8}},

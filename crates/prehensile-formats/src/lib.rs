@@ -11,6 +11,7 @@ mod hand_import;
 mod hand_mjcf;
 mod hand_toml;
 mod hand_urdf;
+mod mesh_gltf;
 mod mesh_obj;
 mod mesh_ply;
 mod mesh_stl;

@@ -10,7 +10,7 @@ use crate::{parse_obj, parse_ply, parse_stl, FormatError};
 /// Largest mesh file read, bytes.
 const MAX_FILE_BYTES: u64 = 2 << 30;
 
-/// Reads an OBJ, STL or PLY file into a welded mesh, every coordinate multiplied by `scale`.
+/// Reads an OBJ, STL, PLY or glTF/GLB file into a welded mesh, every coordinate multiplied by `scale`.
 pub fn read_mesh(path: &Path, scale: f64) -> Result<TriangleMesh, FormatError> {
     let name = path.display().to_string();
     if !(scale.is_finite() && scale > 0.0) {
@@ -43,10 +43,11 @@ pub fn read_mesh(path: &Path, scale: f64) -> Result<TriangleMesh, FormatError> {
         }
         "stl" => parse_stl(&bytes, &name)?,
         "ply" => parse_ply(&bytes, &name)?,
+        "gltf" | "glb" => crate::mesh_gltf::read_gltf_triangles(path)?,
         _ => {
             return Err(FormatError::new(
                 &name,
-                format!("unknown mesh extension '.{ext}'; use .obj, .stl or .ply"),
+                format!("unknown mesh extension '.{ext}'; use .obj, .stl, .ply, .gltf or .glb"),
             ))
         }
     };

@@ -118,8 +118,24 @@ fn zero_area_triangles_are_reported() {
 
 #[test]
 fn unknown_extension_and_missing_file_are_errors() {
+    let e = read_mesh(&temp("x.dae", b"{}"), 1.0).unwrap_err();
+    assert!(e.reason.contains(".obj, .stl, .ply, .gltf or .glb"), "{e}");
     let e = read_mesh(&temp("x.gltf", b"{}"), 1.0).unwrap_err();
-    assert!(e.reason.contains(".obj, .stl or .ply"), "{e}");
+    assert!(e.reason.contains("not a readable glTF"), "{e}");
     let e = read_mesh(&asset("no_such_file.stl"), 1.0).unwrap_err();
     assert!(e.reason.contains("cannot read"), "{e}");
+}
+
+#[test]
+fn a_glb_scene_is_read_with_its_node_transforms() {
+    // Our own export: the object mesh is the first node (identity transform), then the hand.
+    let hand = prehensile_formats::builtin_hand("robot3").unwrap();
+    let mesh = prehensile_core::shapes::builtin_object("torus").unwrap();
+    let glb = prehensile_formats::grasp_glb(&mesh, &hand, &[]);
+    let path = temp("scene.glb", &glb);
+    let read = read_mesh(&path, 1.0).unwrap();
+    // The object plus one capsule mesh per bone with capsules, all merged.
+    assert!(read.triangles.len() > mesh.triangles.len());
+    let report = read.report();
+    assert!(report.size[0] > 0.118, "{:?}", report.size);
 }

@@ -7,7 +7,8 @@ use crate::CliError;
 
 /// Prints the mesh report; exit code 2 when the mesh has defects.
 pub fn run(args: &CheckArgs) -> Result<i32, CliError> {
-    let mesh = read_mesh(&args.mesh, args.scale).map_err(CliError::from_display)?;
+    let mesh =
+        read_mesh(&args.mesh, args.scale * args.units.metres()).map_err(CliError::from_display)?;
     let report = mesh.report();
     if args.json {
         println!(

@@ -1,0 +1,128 @@
+//! Meshes from glTF 2.0 (`.gltf` with its buffers, or `.glb`): every triangle primitive of every
+//! mesh in the default scene, merged, with node transforms applied. Read with the `gltf` crate.
+
+use std::path::Path;
+
+use prehensile_core::math::Point3;
+
+use crate::FormatError;
+
+/// Reads every triangle of the default scene, in scene coordinates.
+pub fn read_gltf_triangles(path: &Path) -> Result<(Vec<Point3>, Vec<[usize; 3]>), FormatError> {
+    let name = path.display().to_string();
+    let gltf = gltf::Gltf::open(path)
+        .map_err(|e| FormatError::new(&name, format!("not a readable glTF file: {e}")))?;
+    let doc = &gltf.document;
+    // Buffers: the GLB's binary chunk, or files beside a .gltf. (Embedded base64 data URIs are
+    // not supported: they would need the crate's image-decoding import feature.)
+    let mut buffers: Vec<Vec<u8>> = Vec::new();
+    for buffer in doc.buffers() {
+        let data = match buffer.source() {
+            gltf::buffer::Source::Bin => gltf.blob.clone().ok_or_else(|| {
+                FormatError::new(
+                    &name,
+                    "buffer refers to a binary chunk the file does not have",
+                )
+            })?,
+            gltf::buffer::Source::Uri(uri) if !uri.starts_with("data:") => {
+                let file = path.parent().unwrap_or(Path::new(".")).join(uri);
+                std::fs::read(&file).map_err(|e| {
+                    FormatError::new(&name, format!("cannot read buffer {}: {e}", file.display()))
+                })?
+            }
+            gltf::buffer::Source::Uri(_) => {
+                return Err(FormatError::new(
+                    &name,
+                    "embedded (data: URI) buffers are not supported; export as .glb",
+                ))
+            }
+        };
+        if data.len() < buffer.length() {
+            return Err(FormatError::new(
+                &name,
+                format!(
+                    "buffer {} is shorter than its declared length",
+                    buffer.index()
+                ),
+            ));
+        }
+        buffers.push(data);
+    }
+    let scene = doc
+        .default_scene()
+        .or_else(|| doc.scenes().next())
+        .ok_or_else(|| FormatError::new(&name, "the file has no scene"))?;
+    let mut vertices = Vec::new();
+    let mut triangles = Vec::new();
+    let mut stack: Vec<(gltf::Node, nalgebra::Matrix4<f64>)> = scene
+        .nodes()
+        .map(|n| (n, nalgebra::Matrix4::identity()))
+        .collect();
+    let mut visited = 0usize;
+    while let Some((node, parent)) = stack.pop() {
+        visited += 1;
+        if visited > 1_000_000 {
+            return Err(FormatError::new(
+                &name,
+                "the node hierarchy is too large or cyclic",
+            ));
+        }
+        let local = nalgebra::Matrix4::from_fn(|r, c| node.transform().matrix()[c][r] as f64);
+        let world = parent * local;
+        if let Some(mesh) = node.mesh() {
+            for (pi, primitive) in mesh.primitives().enumerate() {
+                let at = format!("mesh '{}' primitive {pi}", mesh.name().unwrap_or("?"));
+                if primitive.mode() != gltf::mesh::Mode::Triangles {
+                    return Err(FormatError::at(
+                        &name,
+                        at,
+                        format!(
+                            "uses {:?}; only triangles describe a closed object",
+                            primitive.mode()
+                        ),
+                    ));
+                }
+                let reader = primitive.reader(|b| buffers.get(b.index()).map(|d| &d[..]));
+                let positions = reader
+                    .read_positions()
+                    .ok_or_else(|| FormatError::at(&name, &at, "has no POSITION attribute"))?;
+                let first = vertices.len();
+                for p in positions {
+                    let v =
+                        world * nalgebra::Vector4::new(p[0] as f64, p[1] as f64, p[2] as f64, 1.0);
+                    vertices.push(Point3::new(v.x, v.y, v.z));
+                }
+                let count = vertices.len() - first;
+                let indices: Vec<usize> = match reader.read_indices() {
+                    Some(i) => i.into_u32().map(|i| i as usize).collect(),
+                    None => (0..count).collect(),
+                };
+                if indices.len() % 3 != 0 {
+                    return Err(FormatError::at(
+                        &name,
+                        &at,
+                        format!(
+                            "{} indices is not a whole number of triangles",
+                            indices.len()
+                        ),
+                    ));
+                }
+                for t in indices.chunks(3) {
+                    if t.iter().any(|&i| i >= count) {
+                        return Err(FormatError::at(
+                            &name,
+                            &at,
+                            format!("an index refers past its {count} vertices"),
+                        ));
+                    }
+                    triangles.push([first + t[0], first + t[1], first + t[2]]);
+                }
+            }
+        }
+        stack.extend(node.children().map(|c| (c, world)));
+    }
+    if triangles.is_empty() {
+        return Err(FormatError::new(&name, "the scene has no triangles"));
+    }
+    Ok((vertices, triangles))
+}
