@@ -33,17 +33,19 @@ pub fn parse_hand_toml(text: &str, source_name: &str) -> Result<HandModel, Forma
     HandModel::from_description(&desc).map_err(|e| FormatError::new(source_name, e.to_string()))
 }
 
-/// Reads a hand file: `.toml` (our format), `.urdf`, or `.xml` / `.mjcf` (MuJoCo).
+/// Reads a hand file: `.toml` (our format), `.urdf`, `.xml` / `.mjcf` (MuJoCo) or `.glb` /
+/// `.gltf` (a skinned mesh).
 pub fn load_hand(path: &Path) -> Result<HandModel, FormatError> {
     let name = path.display().to_string();
     match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
         Some("urdf") => return crate::load_hand_urdf(path),
         Some("xml") | Some("mjcf") => return crate::load_hand_mjcf(path),
+        Some("glb") | Some("gltf") => return crate::load_hand_gltf(path),
         Some("toml") => {}
         other => {
             return Err(FormatError::new(
                 &name,
-                format!("unknown hand file extension {other:?}; use .toml, .urdf or .xml (MJCF); glTF hands are not supported yet"),
+                format!("unknown hand file extension {other:?}; use .toml, .urdf, .xml (MJCF) or .glb (skinned glTF)"),
             ))
         }
     }

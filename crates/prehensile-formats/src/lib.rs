@@ -1,12 +1,13 @@
 //! # prehensile-formats
 //!
 //! Reading and writing for Prehensile: meshes (OBJ, STL ascii and binary, PLY ascii and binary)
-//! and hands (TOML, URDF, MJCF), plus the built-in hands. Builds core types; knows nothing of
+//! and hands (TOML, URDF, MJCF, glTF skins), plus the built-in hands. Builds core types; knows nothing of
 //! physics engines. Every error names the file, the line or element, and the reason.
 #![warn(missing_docs)]
 
 mod error;
 mod glb;
+mod hand_gltf;
 mod hand_import;
 mod hand_mjcf;
 mod hand_toml;
@@ -19,6 +20,7 @@ mod meshes;
 
 pub use error::FormatError;
 pub use glb::grasp_glb;
+pub use hand_gltf::load_hand_gltf;
 pub use hand_mjcf::{load_hand_mjcf, parse_hand_mjcf};
 pub use hand_toml::{builtin_hand, load_hand, parse_hand_toml, BUILTIN_HANDS};
 pub use hand_urdf::{load_hand_urdf, parse_hand_urdf};
