@@ -122,6 +122,9 @@ pub struct GraspArgs {
     /// approach and closing (opens in Blender and three.js).
     #[arg(long)]
     pub glb: Option<PathBuf>,
+    /// Write the same motion as BVH (joint rotations, centimetres) here.
+    #[arg(long)]
+    pub bvh: Option<PathBuf>,
 }
 
 /// `prehensile demo`.

@@ -258,3 +258,43 @@ fn units_scale_a_mesh() {
     ]);
     assert_eq!(out.status.code(), Some(2));
 }
+
+#[test]
+fn grasp_writes_bvh_with_one_value_per_channel() {
+    let bvh = scratch("grasp.bvh");
+    let out = prehensile(&["grasp", "--object", "box", "--bvh", bvh.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let text = std::fs::read_to_string(&bvh).unwrap();
+    let channels: usize = text
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("CHANNELS "))
+        .map(|l| {
+            l.split_whitespace()
+                .next()
+                .unwrap()
+                .parse::<usize>()
+                .unwrap()
+        })
+        .sum();
+    assert_eq!(
+        channels,
+        6 + 3 * 19,
+        "human hand: 6 root channels, 3 per other bone"
+    );
+    let frames: usize = text
+        .lines()
+        .find_map(|l| l.strip_prefix("Frames: "))
+        .unwrap()
+        .parse()
+        .unwrap();
+    let motion: Vec<&str> = text
+        .lines()
+        .skip_while(|l| !l.starts_with("Frame Time"))
+        .skip(1)
+        .collect();
+    assert_eq!(motion.len(), frames);
+    assert!(motion
+        .iter()
+        .all(|l| l.split_whitespace().count() == channels));
+    assert_eq!(text.matches("End Site").count(), 5);
+}

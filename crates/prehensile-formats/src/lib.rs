@@ -5,6 +5,7 @@
 //! physics engines. Every error names the file, the line or element, and the reason.
 #![warn(missing_docs)]
 
+mod bvh;
 mod error;
 mod glb;
 mod hand_gltf;
@@ -18,6 +19,7 @@ mod mesh_ply;
 mod mesh_stl;
 mod meshes;
 
+pub use bvh::{euler_zxy, write_bvh};
 pub use error::FormatError;
 pub use glb::grasp_glb;
 pub use hand_gltf::load_hand_gltf;

@@ -153,12 +153,11 @@ pub fn search(req: &Request) -> Result<(GraspResult, Duration), CliError> {
     Ok((best.expect("at least one movement"), began.elapsed()))
 }
 
-/// The grasp as a glTF binary scene with the approach-and-close animation.
-pub fn glb_bytes(
+/// Keyframes of the result: approach from 10 cm back over one second, close over one second.
+fn keyframes(
     hand: &HandModel,
-    object: &ObjectModel,
     result: &GraspResult,
-) -> Result<Vec<u8>, CliError> {
+) -> Result<Vec<prehensile_core::animation::Keyframe>, CliError> {
     let movement = hand.movement(&result.movement).ok_or_else(|| {
         CliError(format!(
             "the result names movement '{}', which the hand lacks",
@@ -173,7 +172,7 @@ pub fn glb_bytes(
         )),
     );
     let fractions: Vec<f64> = result.bones.iter().map(|b| b.fraction).collect();
-    let frames = prehensile_core::animation::approach_and_close(
+    Ok(prehensile_core::animation::approach_and_close(
         hand,
         movement,
         &hook,
@@ -181,8 +180,20 @@ pub fn glb_bytes(
         &fractions,
         0.1,
         12,
-    );
-    Ok(prehensile_formats::grasp_glb(object.mesh(), hand, &frames))
+    ))
+}
+
+/// The grasp as a glTF binary scene with the approach-and-close animation.
+pub fn glb_bytes(
+    hand: &HandModel,
+    object: &ObjectModel,
+    result: &GraspResult,
+) -> Result<Vec<u8>, CliError> {
+    Ok(prehensile_formats::grasp_glb(
+        object.mesh(),
+        hand,
+        &keyframes(hand, result)?,
+    ))
 }
 
 /// Parses `--up`.
@@ -242,11 +253,18 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
     match &args.out {
         Some(path) => std::fs::write(path, &json)
             .map_err(|e| CliError(format!("cannot write {}: {e}", path.display())))?,
-        None if args.svg.is_none() && args.glb.is_none() => println!("{json}"),
+        None if args.svg.is_none() && args.glb.is_none() && args.bvh.is_none() => {
+            println!("{json}")
+        }
         None => {}
     }
     if let Some(path) = &args.glb {
         std::fs::write(path, glb_bytes(&hand, &object, &result)?)
+            .map_err(|e| CliError(format!("cannot write {}: {e}", path.display())))?;
+    }
+    if let Some(path) = &args.bvh {
+        let text = prehensile_formats::write_bvh(&hand, &keyframes(&hand, &result)?, 12.0);
+        std::fs::write(path, text)
             .map_err(|e| CliError(format!("cannot write {}: {e}", path.display())))?;
     }
     if let Some(path) = &args.svg {
