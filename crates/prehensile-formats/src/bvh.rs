@@ -1,11 +1,14 @@
-//! BVH export of a hand's motion: the bone hierarchy with offsets (centimetres, as BVH tools
-//! expect) and, per frame, every bone's local rotation as Z, X, Y Euler angles in degrees.
+//! BVH: export of a hand's motion (the bone hierarchy with offsets in centimetres, as BVH tools
+//! expect, and per frame every bone's local rotation as Z, X, Y Euler angles in degrees), and
+//! import of hand motions as joint-angle trajectories of a hand model, matched by bone name.
 
 use std::fmt::Write as _;
 
 use prehensile_core::animation::Keyframe;
 use prehensile_core::math::{Rotation, Transform};
 use prehensile_core::HandModel;
+
+use crate::FormatError;
 
 /// Centimetres per metre.
 const CM: f64 = 100.0;
@@ -116,6 +119,223 @@ pub fn write_bvh(hand: &HandModel, keyframes: &[Keyframe], fps: f64) -> String {
         let _ = writeln!(out, "{}", text.join(" "));
     }
     out
+}
+
+/// One joint of a BVH hierarchy.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BvhJoint {
+    /// Name.
+    pub name: String,
+    /// Parent joint index.
+    pub parent: Option<usize>,
+    /// Channel names in file order (`Xposition`, `Zrotation`, ...).
+    pub channels: Vec<String>,
+}
+
+/// A parsed BVH file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BvhMotion {
+    /// Joints in file order.
+    pub joints: Vec<BvhJoint>,
+    /// Seconds per frame.
+    pub frame_time: f64,
+    /// Channel values per frame, joints' channels concatenated in file order.
+    pub frames: Vec<Vec<f64>>,
+}
+
+/// Most frames or channels accepted, to bound memory on absurd headers.
+const MAX_VALUES: usize = 50_000_000;
+
+/// Parses BVH text. Errors name the line.
+pub fn parse_bvh(text: &str, source: &str) -> Result<BvhMotion, FormatError> {
+    let mut joints: Vec<BvhJoint> = Vec::new();
+    let mut stack: Vec<Option<usize>> = Vec::new();
+    let mut lines = text.lines().enumerate().peekable();
+    let err = |n: usize, reason: String| FormatError::at(source, format!("line {}", n + 1), reason);
+    let mut in_end_site = 0usize;
+    let mut motion_line = None;
+    while let Some((n, raw)) = lines.next() {
+        let words: Vec<&str> = raw.split_whitespace().collect();
+        match words.as_slice() {
+            ["HIERARCHY"] | [] => {}
+            ["ROOT" | "JOINT", name] => {
+                joints.push(BvhJoint {
+                    name: name.to_string(),
+                    parent: stack.last().copied().flatten(),
+                    channels: Vec::new(),
+                });
+            }
+            ["End", "Site"] => in_end_site += 1,
+            ["{"] => stack.push(if in_end_site > 0 {
+                None
+            } else {
+                Some(joints.len().saturating_sub(1))
+            }),
+            ["}"] => {
+                let popped = stack
+                    .pop()
+                    .ok_or_else(|| err(n, "a '}' closes nothing".into()))?;
+                if popped.is_none() && in_end_site > 0 {
+                    in_end_site -= 1;
+                }
+            }
+            ["OFFSET", ..] => {}
+            ["CHANNELS", count, names @ ..] => {
+                let count: usize = count
+                    .parse()
+                    .map_err(|_| err(n, format!("'{count}' is not a channel count")))?;
+                if names.len() != count {
+                    return Err(err(
+                        n,
+                        format!("CHANNELS says {count} but lists {}", names.len()),
+                    ));
+                }
+                let joint = joints
+                    .last_mut()
+                    .ok_or_else(|| err(n, "CHANNELS before any joint".into()))?;
+                joint.channels = names.iter().map(|s| s.to_string()).collect();
+            }
+            ["MOTION"] => {
+                motion_line = Some(n);
+                break;
+            }
+            other => return Err(err(n, format!("unexpected '{}'", other.join(" ")))),
+        }
+    }
+    let Some(motion_at) = motion_line else {
+        return Err(FormatError::new(source, "no MOTION section"));
+    };
+    if !stack.is_empty() {
+        return Err(err(
+            motion_at,
+            "the hierarchy's braces are not balanced".into(),
+        ));
+    }
+    let mut next_value = |prefix: &str| -> Result<(usize, String), FormatError> {
+        let (n, line) = lines
+            .next()
+            .ok_or_else(|| FormatError::new(source, format!("missing '{prefix}' line")))?;
+        let value = line
+            .trim()
+            .strip_prefix(prefix)
+            .ok_or_else(|| err(n, format!("expected '{prefix}'")))?;
+        Ok((n, value.trim().to_string()))
+    };
+    let (n, frames_text) = next_value("Frames:")?;
+    let count: usize = frames_text
+        .parse()
+        .map_err(|_| err(n, format!("'{frames_text}' is not a frame count")))?;
+    let (n, time_text) = next_value("Frame Time:")?;
+    let frame_time: f64 = time_text
+        .parse()
+        .ok()
+        .filter(|t: &f64| t.is_finite() && *t > 0.0)
+        .ok_or_else(|| err(n, format!("'{time_text}' is not a positive frame time")))?;
+    let width: usize = joints.iter().map(|j| j.channels.len()).sum();
+    if count.saturating_mul(width.max(1)) > MAX_VALUES {
+        return Err(FormatError::new(
+            source,
+            format!("{count} frames of {width} channels is more than this reader accepts"),
+        ));
+    }
+    let mut frames = Vec::with_capacity(count.min(100_000));
+    for (n, line) in lines.by_ref().take(count) {
+        let values: Vec<f64> = line
+            .split_whitespace()
+            .map(|w| w.parse::<f64>().ok().filter(|v| v.is_finite()))
+            .collect::<Option<_>>()
+            .ok_or_else(|| err(n, "a frame value is not a finite number".into()))?;
+        if values.len() != width {
+            return Err(err(
+                n,
+                format!(
+                    "{} values, but the hierarchy has {width} channels",
+                    values.len()
+                ),
+            ));
+        }
+        frames.push(values);
+    }
+    if frames.len() != count {
+        return Err(FormatError::new(
+            source,
+            format!(
+                "the header promises {count} frames, the file has {}",
+                frames.len()
+            ),
+        ));
+    }
+    Ok(BvhMotion {
+        joints,
+        frame_time,
+        frames,
+    })
+}
+
+impl BvhMotion {
+    /// Each frame as the hand's joint-angle vector: every bone is matched by name to a BVH joint,
+    /// its local rotation read from the Z/X/Y rotation channels, the bone's rest rotation taken
+    /// off, and the remainder decomposed onto the bone's joint. Couplings and limits are applied.
+    pub fn joint_angles(
+        &self,
+        hand: &HandModel,
+        source: &str,
+    ) -> Result<Vec<Vec<f64>>, FormatError> {
+        let mut first_channel = Vec::with_capacity(self.joints.len());
+        let mut at = 0;
+        for j in &self.joints {
+            first_channel.push(at);
+            at += j.channels.len();
+        }
+        let mut mapping = Vec::new();
+        for (k, bone) in hand.bones().iter().enumerate().skip(1) {
+            if bone.joint.dofs() == 0 {
+                continue;
+            }
+            let name = bone.name.replace(char::is_whitespace, "_");
+            let j = self
+                .joints
+                .iter()
+                .position(|j| j.name == name)
+                .ok_or_else(|| {
+                    FormatError::new(
+                        source,
+                        format!(
+                            "the hand's bone '{}' has no joint of that name in the motion",
+                            bone.name
+                        ),
+                    )
+                })?;
+            mapping.push((k, j));
+        }
+        let mut out = Vec::with_capacity(self.frames.len());
+        for frame in &self.frames {
+            let mut angles = vec![0.0; hand.dof_count()];
+            for &(k, j) in &mapping {
+                let mut r = Rotation::identity();
+                for (c, name) in self.joints[j].channels.iter().enumerate() {
+                    let v = frame[first_channel[j] + c].to_radians();
+                    let axis = match name.as_str() {
+                        "Xrotation" => prehensile_core::math::Vec3::x_axis(),
+                        "Yrotation" => prehensile_core::math::Vec3::y_axis(),
+                        "Zrotation" => prehensile_core::math::Vec3::z_axis(),
+                        _ => continue,
+                    };
+                    r *= Rotation::from_axis_angle(&axis, v);
+                }
+                let bone = &hand.bones()[k];
+                let joint_rotation = bone.rest.rotation.inverse() * r;
+                let n = bone.joint.dofs();
+                bone.joint.angles(
+                    &joint_rotation,
+                    &mut angles[bone.first_dof..bone.first_dof + n],
+                );
+            }
+            hand.constrain(&mut angles);
+            out.push(angles);
+        }
+        Ok(out)
+    }
 }
 
 #[cfg(test)]

@@ -19,7 +19,7 @@ mod mesh_ply;
 mod mesh_stl;
 mod meshes;
 
-pub use bvh::{euler_zxy, write_bvh};
+pub use bvh::{euler_zxy, parse_bvh, write_bvh, BvhJoint, BvhMotion};
 pub use error::FormatError;
 pub use glb::grasp_glb;
 pub use hand_gltf::load_hand_gltf;
