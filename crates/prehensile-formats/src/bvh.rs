@@ -154,7 +154,7 @@ pub fn parse_bvh(text: &str, source: &str) -> Result<BvhMotion, FormatError> {
     let err = |n: usize, reason: String| FormatError::at(source, format!("line {}", n + 1), reason);
     let mut in_end_site = 0usize;
     let mut motion_line = None;
-    while let Some((n, raw)) = lines.next() {
+    for (n, raw) in lines.by_ref() {
         let words: Vec<&str> = raw.split_whitespace().collect();
         match words.as_slice() {
             ["HIERARCHY"] | [] => {}
