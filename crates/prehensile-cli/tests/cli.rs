@@ -100,7 +100,7 @@ fn hands_lists_the_builtins() {
         .iter()
         .map(|h| h["name"].as_str().unwrap())
         .collect();
-    assert_eq!(names, ["human", "robot3", "cartoon4"]);
+    assert_eq!(names, ["human", "human-left", "robot3", "cartoon4"]);
     assert_eq!(hands[0]["capsules"], 24);
     let out = prehensile(&["hands", "--file", &asset("hands/robot3.toml")]);
     assert_eq!(out.status.code(), Some(0));

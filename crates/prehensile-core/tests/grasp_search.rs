@@ -377,3 +377,24 @@ fn a_sink_hears_every_step_and_every_improvement() {
         assert_eq!(Some(*last), planner.best().map(|b| b.quality));
     }
 }
+
+#[test]
+fn the_mirrored_human_hand_is_a_left_hand_that_grasps() {
+    let right = common::hand("human");
+    let left = common::hand("human-left");
+    let thumb_x = |h: &HandModel| {
+        let t = h.finger_index("thumb").unwrap();
+        h.pose_transforms(&prehensile_core::math::Transform::identity(), &vec![Default::default(); h.bones().len()])
+            [*h.fingers()[t].bones.last().unwrap()]
+            .translation
+            .x
+    };
+    assert!(thumb_x(&right) < 0.0 && thumb_x(&left) > 0.0);
+    for name in BUILTIN_OBJECTS {
+        let object = common::object(name);
+        for movement in ["power", "precision"] {
+            let r = search(&left, &object, movement, SHOULDERS[0], 1);
+            assert_grasp(&object, &r, &format!("left {name} {movement}"));
+        }
+    }
+}

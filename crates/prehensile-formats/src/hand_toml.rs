@@ -7,11 +7,20 @@ use prehensile_core::{HandDescription, HandModel};
 use crate::FormatError;
 
 /// Names of the built-in hands.
-pub const BUILTIN_HANDS: [&str; 3] = ["human", "robot3", "cartoon4"];
+pub const BUILTIN_HANDS: [&str; 4] = ["human", "human-left", "robot3", "cartoon4"];
 
 /// The built-in hand with this name, or `None`.
 pub fn builtin_hand(name: &str) -> Option<HandModel> {
     let text = match name {
+        "human-left" => {
+            let right: HandDescription =
+                toml::from_str(include_str!("../../../assets/hands/human.toml"))
+                    .expect("the built-in human hand parses");
+            return Some(
+                HandModel::from_description(&right.mirrored("human-left"))
+                    .expect("the mirrored human hand is valid (tested)"),
+            );
+        }
         "human" => include_str!("../../../assets/hands/human.toml"),
         "robot3" => include_str!("../../../assets/hands/robot3.toml"),
         "cartoon4" => include_str!("../../../assets/hands/cartoon4.toml"),

@@ -25,6 +25,27 @@ pub struct HandDescription {
     pub movements: Vec<MovementDescription>,
 }
 
+impl HandDescription {
+    /// The mirror image across the hand's yz-plane (x negated): a left hand from a right one and
+    /// back. Bone frames are derived again from the mirrored positions, so flexion still curls
+    /// toward the palm; abduction turns the mirrored way.
+    pub fn mirrored(&self, name: &str) -> Self {
+        let flip = |p: [f64; 3]| [-p[0], p[1], p[2]];
+        let mut out = self.clone();
+        out.name = name.to_string();
+        out.description = format!("mirror image of {}: {}", self.name, self.description);
+        for b in &mut out.bones {
+            b.origin = flip(b.origin);
+            b.tip = b.tip.map(flip);
+            b.flexes_toward = b.flexes_toward.map(flip);
+        }
+        for m in &mut out.movements {
+            m.grasp_center = m.grasp_center.map(flip);
+        }
+        out
+    }
+}
+
 /// One bone and the joint that moves it relative to its parent.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
