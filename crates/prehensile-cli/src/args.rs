@@ -59,6 +59,9 @@ pub struct CheckArgs {
     /// The file's length unit.
     #[arg(long, value_enum, default_value = "m")]
     pub units: Units,
+    /// Repair: merge vertices closer than this many metres first (e.g. 1e-6 for hairline seams).
+    #[arg(long)]
+    pub weld: Option<f64>,
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
@@ -90,6 +93,9 @@ pub struct GraspArgs {
     /// The mesh file's length unit.
     #[arg(long, value_enum, default_value = "m")]
     pub units: Units,
+    /// Repair: merge vertices closer than this many metres first (e.g. 1e-6 for hairline seams).
+    #[arg(long)]
+    pub weld: Option<f64>,
     /// power, precision, close, any movement of the hand, or auto (try each, keep the best).
     #[arg(long, default_value = "auto")]
     pub movement: String,

@@ -4,7 +4,7 @@ use std::path::Path;
 
 use prehensile_core::shapes::{builtin_object, BUILTIN_OBJECTS};
 use prehensile_core::{HandModel, ObjectModel};
-use prehensile_formats::{builtin_hand, load_hand, load_object, BUILTIN_HANDS};
+use prehensile_formats::{builtin_hand, load_hand, load_object_repaired, BUILTIN_HANDS};
 
 use crate::CliError;
 
@@ -23,8 +23,16 @@ pub fn hand(spec: &str) -> Result<HandModel, CliError> {
     )))
 }
 
-/// A built-in object by name (scaled), or a mesh file.
-pub fn object(spec: &str, scale: f64) -> Result<ObjectModel, CliError> {
+/// A built-in object by name (scaled), or a mesh file, optionally repaired by welding vertices
+/// within `weld` metres; what was repaired is printed.
+pub fn object(spec: &str, scale: f64, weld: Option<f64>) -> Result<ObjectModel, CliError> {
+    if let Some(w) = weld {
+        if !(w.is_finite() && w > 0.0) {
+            return Err(CliError(format!(
+                "--weld {w} must be a positive number of metres"
+            )));
+        }
+    }
     if !(scale.is_finite() && scale > 0.0) {
         return Err(CliError(format!(
             "--scale {scale} must be a positive number"
@@ -35,7 +43,12 @@ pub fn object(spec: &str, scale: f64) -> Result<ObjectModel, CliError> {
     }
     let path = Path::new(spec);
     if path.exists() {
-        return load_object(path, scale).map_err(CliError::from_display);
+        let (object, notes) =
+            load_object_repaired(path, scale, weld).map_err(CliError::from_display)?;
+        for note in notes {
+            eprintln!("note: {}: {note}", path.display());
+        }
+        return Ok(object);
     }
     Err(CliError(format!(
         "'{spec}' is neither a built-in object ({}) nor an existing mesh file",

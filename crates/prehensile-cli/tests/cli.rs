@@ -298,3 +298,46 @@ fn grasp_writes_bvh_with_one_value_per_channel() {
         .all(|l| l.split_whitespace().count() == channels));
     assert_eq!(text.matches("End Site").count(), 5);
 }
+
+#[test]
+fn welding_repairs_the_can_with_hairline_holes_and_says_so() {
+    let can = asset("objects/robosuite_can_with_holes.stl");
+    let out = prehensile(&["check", &can]);
+    assert_eq!(out.status.code(), Some(2));
+    let out = prehensile(&["check", &can, "--weld", "1e-6", "--json"]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stderr).contains("merged"),
+        "{}",
+        text(&out.stderr)
+    );
+    let out = prehensile(&[
+        "grasp",
+        "--object",
+        &can,
+        "--weld",
+        "1e-6",
+        "--movement",
+        "power",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stderr).contains("note:") && text(&out.stderr).contains("boundary edges 92 -> 0"),
+        "{}",
+        text(&out.stderr)
+    );
+    // The bottle's non-manifold edges are not hairline seams: still refused, with the reason.
+    let out = prehensile(&[
+        "grasp",
+        "--object",
+        &asset("objects/robosuite_bottle.stl"),
+        "--weld",
+        "1e-6",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        text(&out.stderr).contains("non-manifold"),
+        "{}",
+        text(&out.stderr)
+    );
+}

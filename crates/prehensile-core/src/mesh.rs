@@ -145,6 +145,60 @@ impl TriangleMesh {
         })
     }
 
+    /// Merges vertices closer than `tolerance` metres (each joins the first vertex within reach,
+    /// found through a hash grid of cell `tolerance`) and drops triangles that collapse. An
+    /// explicit repair for scans whose seams are a hair apart; returns the mesh and how many
+    /// vertices were merged.
+    pub fn weld_within(&self, tolerance: f64) -> (Self, usize) {
+        if !(tolerance.is_finite() && tolerance > 0.0) {
+            return (self.clone(), 0);
+        }
+        let cell = |p: &Point3| [p.x, p.y, p.z].map(|c| (c / tolerance).floor() as i64);
+        let mut grid: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
+        let mut vertices: Vec<Point3> = Vec::new();
+        let mut remap = Vec::with_capacity(self.vertices.len());
+        for p in &self.vertices {
+            let c = cell(p);
+            let mut found = None;
+            'search: for dx in -1..=1 {
+                for dy in -1..=1 {
+                    for dz in -1..=1 {
+                        if let Some(list) = grid.get(&[c[0] + dx, c[1] + dy, c[2] + dz]) {
+                            if let Some(&k) = list
+                                .iter()
+                                .find(|&&k| (vertices[k as usize] - p).norm() <= tolerance)
+                            {
+                                found = Some(k);
+                                break 'search;
+                            }
+                        }
+                    }
+                }
+            }
+            let id = found.unwrap_or_else(|| {
+                vertices.push(*p);
+                let id = (vertices.len() - 1) as u32;
+                grid.entry(c).or_default().push(id);
+                id
+            });
+            remap.push(id);
+        }
+        let merged = self.vertices.len() - vertices.len();
+        let triangles = self
+            .triangles
+            .iter()
+            .map(|t| t.map(|i| remap[i as usize]))
+            .filter(|t| t[0] != t[1] && t[1] != t[2] && t[2] != t[0])
+            .collect();
+        (
+            Self {
+                vertices,
+                triangles,
+            },
+            merged,
+        )
+    }
+
     /// Returns a copy with every vertex multiplied by `factor`.
     pub fn scaled(&self, factor: f64) -> Self {
         Self {

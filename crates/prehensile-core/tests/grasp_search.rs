@@ -384,10 +384,12 @@ fn the_mirrored_human_hand_is_a_left_hand_that_grasps() {
     let left = common::hand("human-left");
     let thumb_x = |h: &HandModel| {
         let t = h.finger_index("thumb").unwrap();
-        h.pose_transforms(&prehensile_core::math::Transform::identity(), &vec![Default::default(); h.bones().len()])
-            [*h.fingers()[t].bones.last().unwrap()]
-            .translation
-            .x
+        h.pose_transforms(
+            &prehensile_core::math::Transform::identity(),
+            &vec![Default::default(); h.bones().len()],
+        )[*h.fingers()[t].bones.last().unwrap()]
+        .translation
+        .x
     };
     assert!(thumb_x(&right) < 0.0 && thumb_x(&left) > 0.0);
     for name in BUILTIN_OBJECTS {

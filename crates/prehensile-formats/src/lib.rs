@@ -29,4 +29,4 @@ pub use hand_urdf::{load_hand_urdf, parse_hand_urdf};
 pub use mesh_obj::parse_obj;
 pub use mesh_ply::parse_ply;
 pub use mesh_stl::parse_stl;
-pub use meshes::{load_object, read_mesh, write_obj};
+pub use meshes::{load_object, load_object_repaired, read_mesh, write_obj};

@@ -57,13 +57,36 @@ pub fn read_mesh(path: &Path, scale: f64) -> Result<TriangleMesh, FormatError> {
 
 /// Reads a mesh file and makes a graspable object of it, hooked at its centre of mass.
 pub fn load_object(path: &Path, scale: f64) -> Result<ObjectModel, FormatError> {
-    let mesh = read_mesh(path, scale)?;
+    load_object_repaired(path, scale, None).map(|(o, _)| o)
+}
+
+/// As [`load_object`], but with `weld_tolerance` first merges vertices closer than that many
+/// metres (an explicit repair for scans with hairline seams); returns what was done.
+pub fn load_object_repaired(
+    path: &Path,
+    scale: f64,
+    weld_tolerance: Option<f64>,
+) -> Result<(ObjectModel, Vec<String>), FormatError> {
+    let mut mesh = read_mesh(path, scale)?;
+    let mut notes = Vec::new();
+    if let Some(tolerance) = weld_tolerance {
+        let before = mesh.report();
+        let (welded, merged) = mesh.weld_within(tolerance);
+        let after = welded.report();
+        notes.push(format!(
+            "merged {merged} vertices closer than {tolerance:.1e} m: boundary edges {} -> {}, non-manifold edges {} -> {}",
+            before.boundary_edges, after.boundary_edges, before.non_manifold_edges, after.non_manifold_edges
+        ));
+        mesh = welded;
+    }
     let name = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "object".into());
-    ObjectModel::new(&name, mesh, None)
-        .map_err(|e| FormatError::new(&path.display().to_string(), e.to_string()))
+    let object = ObjectModel::new(&name, mesh, None)
+        .map_err(|e| FormatError::new(&path.display().to_string(), e.to_string()))?;
+    notes.extend(object.repairs().iter().cloned());
+    Ok((object, notes))
 }
 
 /// Writes a mesh as OBJ text.

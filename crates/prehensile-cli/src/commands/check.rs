@@ -7,8 +7,18 @@ use crate::CliError;
 
 /// Prints the mesh report; exit code 2 when the mesh has defects.
 pub fn run(args: &CheckArgs) -> Result<i32, CliError> {
-    let mesh =
+    let mut mesh =
         read_mesh(&args.mesh, args.scale * args.units.metres()).map_err(CliError::from_display)?;
+    if let Some(w) = args.weld {
+        if !(w.is_finite() && w > 0.0) {
+            return Err(CliError(format!(
+                "--weld {w} must be a positive number of metres"
+            )));
+        }
+        let (welded, merged) = mesh.weld_within(w);
+        eprintln!("note: merged {merged} vertices closer than {w:.1e} m");
+        mesh = welded;
+    }
     let report = mesh.report();
     if args.json {
         println!(

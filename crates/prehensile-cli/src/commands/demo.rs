@@ -21,7 +21,7 @@ pub fn run(args: &DemoArgs) -> Result<i32, CliError> {
         .collect::<Result<_, _>>()?;
     let objects: Vec<_> = BUILTIN_OBJECTS
         .iter()
-        .map(|o| sources::object(o, 1.0))
+        .map(|o| sources::object(o, 1.0, None))
         .collect::<Result<_, _>>()?;
     let bar = ProgressBar::new((hands.len() * objects.len()) as u64);
     bar.set_style(
