@@ -38,11 +38,72 @@ pub fn finger_name(bone: &str) -> Option<&'static str> {
         .map(|(_, name)| *name)
 }
 
+/// Overrides for what importing derives, read from a TOML sidecar `<stem>.prehensile.toml`
+/// beside the hand file (see docs/HAND_FORMAT.md).
+#[derive(Debug, Clone, Default, PartialEq, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Sidecar {
+    /// First bone of a chain -> finger name.
+    #[serde(default)]
+    pub fingers: std::collections::BTreeMap<String, String>,
+    /// Last bone of a finger -> fingertip in that bone's frame, metres.
+    #[serde(default)]
+    pub tips: std::collections::BTreeMap<String, [f64; 3]>,
+    /// Joint (degree of freedom) name -> end angle of the `close` movement, radians. When given,
+    /// replaces the derived `close` targets.
+    #[serde(default)]
+    pub close: std::collections::BTreeMap<String, f64>,
+}
+
+impl Sidecar {
+    /// The sidecar beside `hand_file`, if there is one.
+    pub fn beside(hand_file: &std::path::Path) -> Result<Option<Self>, FormatError> {
+        let stem = hand_file
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let path = hand_file.with_file_name(format!("{stem}.prehensile.toml"));
+        if !path.exists() {
+            return Ok(None);
+        }
+        let name = path.display().to_string();
+        let text = std::fs::read_to_string(&path)
+            .map_err(|e| FormatError::new(&name, format!("cannot read the file: {e}")))?;
+        toml::from_str(&text)
+            .map(Some)
+            .map_err(|e| FormatError::new(&name, e.message().to_string()))
+    }
+
+    /// Applies finger names and tips to the parts; `close` is applied after the frame is built.
+    fn apply(&self, parts: &mut HandParts, source: &str) -> Result<(), FormatError> {
+        for (bone, finger) in &self.fingers {
+            let b = parts.bones.iter_mut().find(|b| &b.name == bone).ok_or_else(|| {
+                FormatError::new(source, format!("the sidecar names bone '{bone}' in [fingers], which the hand does not have"))
+            })?;
+            b.finger = Some(finger.clone());
+        }
+        for (bone, tip) in &self.tips {
+            let b = parts.bones.iter_mut().find(|b| &b.name == bone).ok_or_else(|| {
+                FormatError::new(source, format!("the sidecar names bone '{bone}' in [tips], which the hand does not have"))
+            })?;
+            b.tip = Some(Point3::from(*tip));
+        }
+        Ok(())
+    }
+}
+
 /// Builds the model, then re-expresses it in our hand frame: z along the mean direction from the
 /// root to the fingertips, y toward where the generic close movement moves them (out of the
 /// palm). Source joint axes, names and angles are kept; only the root's rest frame turns.
-pub fn build_in_hand_frame(mut parts: HandParts, source: &str) -> Result<HandModel, FormatError> {
+pub fn build_in_hand_frame(
+    mut parts: HandParts,
+    source: &str,
+    sidecar: Option<&Sidecar>,
+) -> Result<HandModel, FormatError> {
     let err = |e: prehensile_core::HandError| FormatError::new(source, e.to_string());
+    if let Some(s) = sidecar {
+        s.apply(&mut parts, source)?;
+    }
     // First estimate of the palm side: move only each finger's last hinge, almost always a
     // flexion, toward its larger limit (the last one no coupling derives from another).
     let plain = HandModel::from_parts(parts.clone()).map_err(err)?;
@@ -137,6 +198,9 @@ pub fn build_in_hand_frame(mut parts: HandParts, source: &str) -> Result<HandMod
         parts
             .close
             .push((model.dof_names()[bone.first_dof].clone(), target));
+    }
+    if let Some(s) = sidecar.filter(|s| !s.close.is_empty()) {
+        parts.close = s.close.iter().map(|(k, v)| (k.clone(), *v)).collect();
     }
     HandModel::from_parts(parts).map_err(err)
 }

@@ -13,7 +13,7 @@ use prehensile_core::math::{Point3, Rotation, Transform, Vec3};
 use prehensile_core::HandModel;
 use roxmltree::{Document, Node};
 
-use crate::hand_import::{bone, build_in_hand_frame, finger_name};
+use crate::hand_import::{bone, build_in_hand_frame, finger_name, Sidecar};
 use crate::FormatError;
 
 /// Most nested `<include>` levels.
@@ -23,7 +23,7 @@ const MAX_INCLUDE_DEPTH: usize = 8;
 pub fn load_hand_mjcf(path: &Path) -> Result<HandModel, FormatError> {
     let name = path.display().to_string();
     let text = expand_includes(path, 0)?;
-    parse_hand_mjcf(&text, &name)
+    parse_hand_mjcf_with(&text, &name, Sidecar::beside(path)?.as_ref())
 }
 
 /// Text of an MJCF file with every `<include file="..."/>` replaced by the included file's
@@ -139,6 +139,15 @@ fn bodies<'a, 'i>(n: Node<'a, 'i>) -> Vec<Node<'a, 'i>> {
 
 /// Parses MJCF text (includes already expanded) into a hand.
 pub fn parse_hand_mjcf(text: &str, source: &str) -> Result<HandModel, FormatError> {
+    parse_hand_mjcf_with(text, source, None)
+}
+
+/// As [`parse_hand_mjcf`], with a sidecar's overrides.
+pub fn parse_hand_mjcf_with(
+    text: &str,
+    source: &str,
+    sidecar: Option<&Sidecar>,
+) -> Result<HandModel, FormatError> {
     let doc = Document::parse(text)
         .map_err(|e| FormatError::at(source, format!("line {}", e.pos().row), e.to_string()))?;
     let at = |node: Node| {
@@ -506,5 +515,5 @@ pub fn parse_hand_mjcf(text: &str, source: &str) -> Result<HandModel, FormatErro
             dropped.join(", ")
         )
     };
-    build_in_hand_frame(parts, source)
+    build_in_hand_frame(parts, source, sidecar)
 }

@@ -10,7 +10,7 @@ use prehensile_core::math::{Point3, Rotation, Transform, Vec3};
 use prehensile_core::HandModel;
 use roxmltree::{Document, Node};
 
-use crate::hand_import::{bone, build_in_hand_frame, finger_name, radius_from_mass};
+use crate::hand_import::{bone, build_in_hand_frame, finger_name, radius_from_mass, Sidecar};
 use crate::FormatError;
 
 struct Link {
@@ -21,6 +21,15 @@ struct Link {
 
 /// Parses URDF text into a hand. `source` names the file in errors.
 pub fn parse_hand_urdf(text: &str, source: &str) -> Result<HandModel, FormatError> {
+    parse_hand_urdf_with(text, source, None)
+}
+
+/// As [`parse_hand_urdf`], with a sidecar's overrides.
+pub fn parse_hand_urdf_with(
+    text: &str,
+    source: &str,
+    sidecar: Option<&Sidecar>,
+) -> Result<HandModel, FormatError> {
     let doc = Document::parse(text)
         .map_err(|e| FormatError::at(source, format!("line {}", e.pos().row), e.to_string()))?;
     let at = |node: Node| format!("line {}", doc.text_pos_at(node.range().start).row);
@@ -267,7 +276,7 @@ pub fn parse_hand_urdf(text: &str, source: &str) -> Result<HandModel, FormatErro
         .iter()
         .map(|l| bones.remove(l).expect("every link is a bone"))
         .collect();
-    build_in_hand_frame(parts, source)
+    build_in_hand_frame(parts, source, sidecar)
 }
 
 /// Reads a URDF hand file.
@@ -275,7 +284,7 @@ pub fn load_hand_urdf(path: &std::path::Path) -> Result<HandModel, FormatError> 
     let name = path.display().to_string();
     let text = std::fs::read_to_string(path)
         .map_err(|e| FormatError::new(&name, format!("cannot read the file: {e}")))?;
-    parse_hand_urdf(&text, &name)
+    parse_hand_urdf_with(&text, &name, Sidecar::beside(path)?.as_ref())
 }
 
 fn child<'a, 'i>(node: Node<'a, 'i>, tag: &str) -> Option<Node<'a, 'i>> {

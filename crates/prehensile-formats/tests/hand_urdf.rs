@@ -121,3 +121,29 @@ fn bad_urdf_is_named() {
     .unwrap_err();
     assert!(e.reason.contains("not defined"), "{e}");
 }
+
+#[test]
+fn a_sidecar_overrides_fingers_tips_and_close() {
+    let dir = std::env::temp_dir().join(format!("prehensile-sidecar-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let urdf = dir.join("claw.urdf");
+    std::fs::copy(urdf_path(), &urdf).unwrap();
+    std::fs::write(
+        dir.join("claw.prehensile.toml"),
+        "[fingers]\nthumb_cmc_link = \"opposer\"\n[tips]\nindex_distal = [0.0, 0.0, 0.03]\n[close]\nindex_proximal_flexion = 1.0\nmiddle_proximal_flexion = 1.2\n",
+    )
+    .unwrap();
+    let hand = load_hand(&urdf).unwrap();
+    assert!(hand.finger_index("opposer").is_some() && hand.finger_index("thumb").is_none());
+    let index = &hand.fingers()[hand.finger_index("index").unwrap()];
+    assert!((index.tip.z - 0.03).abs() < 1e-12);
+    let close = hand.movement("close").unwrap();
+    let dof = |n: &str| hand.dof_names().iter().position(|d| d == n).unwrap();
+    assert_eq!(close.end_angles()[dof("index_proximal_flexion")], 1.0);
+    assert_eq!(close.end_angles()[dof("ring_proximal_flexion")], 0.0, "only the sidecar's targets");
+    std::fs::write(dir.join("claw.prehensile.toml"), "[tips]\nnobody = [0.0, 0.0, 0.1]\n").unwrap();
+    let e = load_hand(&urdf).unwrap_err();
+    assert!(e.reason.contains("nobody"), "{e}");
+    std::fs::write(dir.join("claw.prehensile.toml"), "[tipz]\n").unwrap();
+    assert!(load_hand(&urdf).unwrap_err().source_name.ends_with("claw.prehensile.toml"));
+}
