@@ -75,3 +75,19 @@ proptest! {
         let _ = prehensile_formats::parse_hand_mjcf(&String::from_utf8_lossy(&mjcf), "m.xml");
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(120))]
+
+    /// Byte mutations of the WebXR hand's GLB, read as a mesh and as a skinned hand.
+    #[test]
+    fn glb_survives_mutation(edits in proptest::collection::vec((any::<usize>(), any::<u8>()), 1..6), cut in any::<usize>()) {
+        let bytes = mutate(asset("hands/webxr_generic_hand/right.glb"), &edits, cut % 64);
+        let dir = std::env::temp_dir().join(format!("prehensile-glb-fuzz-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("m.glb");
+        std::fs::write(&path, &bytes).unwrap();
+        let _ = prehensile_formats::read_mesh(&path, 1.0);
+        let _ = prehensile_formats::load_hand_gltf(&path);
+    }
+}
