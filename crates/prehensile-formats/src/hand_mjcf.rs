@@ -318,11 +318,29 @@ pub fn parse_hand_mjcf_with(
             let jname = j.attribute("name").unwrap_or("?").to_string();
             match get("type").as_deref().unwrap_or("hinge") {
                 "hinge" => {}
+                "ball" => {
+                    // MuJoCo limits a ball joint by one cone angle: each rotation-vector
+                    // component within ±that angle.
+                    let limited = get("limited").is_none_or(|l| l != "false");
+                    let max = match (get("range"), limited) {
+                        (Some(r), true) => match numbers(*j, &r, "range")?.as_slice() {
+                            [_, hi] => angle(*hi).abs(),
+                            _ => return Err(FormatError::at(source, at(*j), "range needs two numbers")),
+                        },
+                        _ => std::f64::consts::PI,
+                    };
+                    if joints.len() != 1 {
+                        return Err(FormatError::at(source, at(body), format!("body '{name}' mixes a ball joint with others; not supported")));
+                    }
+                    part.joint = Joint::Ball { limits: [[-max, max]; 3] };
+                    part.dof_names = ["x", "y", "z"].iter().map(|a| format!("{jname}.{a}")).collect();
+                    continue;
+                }
                 other => {
                     return Err(FormatError::at(
                         source,
                         at(*j),
-                        format!("joint '{jname}' is of type '{other}'; hand bodies may use hinge joints only"),
+                        format!("joint '{jname}' is of type '{other}'; hand bodies may use hinge and ball joints"),
                     ))
                 }
             }
@@ -359,6 +377,7 @@ pub fn parse_hand_mjcf_with(
             dropped.extend(axes.drain(..).map(|(n, _)| n));
         }
         match axes.as_slice() {
+            [] if matches!(part.joint, Joint::Ball { .. }) => {}
             [] => {}
             [(n, a)] => {
                 part.joint = Joint::Hinge(*a);

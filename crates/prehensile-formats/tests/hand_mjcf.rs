@@ -127,3 +127,18 @@ fn bad_mjcf_is_named() {
         .reason
         .contains("no <body>"));
 }
+
+#[test]
+fn a_ball_joint_becomes_three_named_degrees_of_freedom() {
+    let shared = std::fs::read_to_string(shadow("shared.xml")).unwrap();
+    let defaults =
+        &shared[shared.find("<default>").unwrap()..shared.rfind("</default>").unwrap() + 10];
+    let robot = std::fs::read_to_string(shadow("robot.xml")).unwrap();
+    let text = robot
+        .replacen("<mujoco>", &format!("<mujoco><compiler angle=\"radian\"/>{defaults}"), 1)
+        .replace("name=\"robot0:THJ4\" type=\"hinge\" pos=\"0 0 0\" axis=\"0 0 -1\" range=\"-1.047 1.047\"", "name=\"robot0:THJ4\" type=\"ball\" range=\"0 0.8\"");
+    let hand = parse_hand_mjcf(&text, "ball.xml").unwrap();
+    assert!(hand.dof_names().iter().any(|d| d == "robot0:THJ4.y"));
+    let base = hand.bone_index("robot0:thbase").unwrap();
+    assert_eq!(hand.bones()[base].joint.limits(2), [-0.8, 0.8]);
+}

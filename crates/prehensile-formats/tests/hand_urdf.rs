@@ -140,10 +140,21 @@ fn a_sidecar_overrides_fingers_tips_and_close() {
     let close = hand.movement("close").unwrap();
     let dof = |n: &str| hand.dof_names().iter().position(|d| d == n).unwrap();
     assert_eq!(close.end_angles()[dof("index_proximal_flexion")], 1.0);
-    assert_eq!(close.end_angles()[dof("ring_proximal_flexion")], 0.0, "only the sidecar's targets");
-    std::fs::write(dir.join("claw.prehensile.toml"), "[tips]\nnobody = [0.0, 0.0, 0.1]\n").unwrap();
+    assert_eq!(
+        close.end_angles()[dof("ring_proximal_flexion")],
+        0.0,
+        "only the sidecar's targets"
+    );
+    std::fs::write(
+        dir.join("claw.prehensile.toml"),
+        "[tips]\nnobody = [0.0, 0.0, 0.1]\n",
+    )
+    .unwrap();
     let e = load_hand(&urdf).unwrap_err();
     assert!(e.reason.contains("nobody"), "{e}");
     std::fs::write(dir.join("claw.prehensile.toml"), "[tipz]\n").unwrap();
-    assert!(load_hand(&urdf).unwrap_err().source_name.ends_with("claw.prehensile.toml"));
+    assert!(load_hand(&urdf)
+        .unwrap_err()
+        .source_name
+        .ends_with("claw.prehensile.toml"));
 }
