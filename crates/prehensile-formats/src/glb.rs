@@ -8,6 +8,8 @@
 use prehensile_core::animation::Keyframe;
 use prehensile_core::math::{Point3, Transform, Vec3};
 use prehensile_core::{HandModel, TriangleMesh};
+
+use crate::SkinnedMesh;
 use serde_json::{json, Value};
 
 /// Segments around a capsule, and rings per hemisphere.
@@ -139,7 +141,15 @@ fn trs(t: &Transform) -> (Vec<f64>, Vec<f64>) {
 /// A GLB with the object mesh, the hand's bones (capsule meshes) and their animation over the
 /// keyframes (none: the hand in its rest pose at the origin). Coordinates are the object's
 /// frame, metres.
-pub fn grasp_glb(object: &TriangleMesh, hand: &HandModel, keyframes: &[Keyframe]) -> Vec<u8> {
+///
+/// With `skin`, the hand's own skinned mesh is added too, bound to the bone nodes, so it follows
+/// the animation.
+pub fn grasp_glb(
+    object: &TriangleMesh,
+    hand: &HandModel,
+    keyframes: &[Keyframe],
+    skin: Option<&SkinnedMesh>,
+) -> Vec<u8> {
     let rest = [Keyframe {
         time: 0.0,
         root: Transform::identity(),
@@ -193,6 +203,50 @@ pub fn grasp_glb(object: &TriangleMesh, hand: &HandModel, keyframes: &[Keyframe]
         }
         nodes.push(node);
     }
+    let mut scene_nodes = vec![0, first_bone];
+    let mut skins = Vec::new();
+    if let Some(skin) = skin.filter(|s| !s.positions.is_empty()) {
+        let p: Vec<f32> = skin
+            .positions
+            .iter()
+            .flat_map(|v| [v.x as f32, v.y as f32, v.z as f32])
+            .collect();
+        let position = b.floats(&p, "VEC3", 3, Some(34962), true);
+        let j: Vec<u8> = skin
+            .joints
+            .iter()
+            .flatten()
+            .flat_map(|k| k.to_le_bytes())
+            .collect();
+        let view = b.view(&j, Some(34962));
+        b.accessors.push(json!({"bufferView": view, "componentType": 5123, "count": skin.joints.len(), "type": "VEC4"}));
+        let joints = b.accessors.len() - 1;
+        let w: Vec<f32> = skin.weights.iter().flatten().copied().collect();
+        let weights = b.floats(&w, "VEC4", 4, Some(34962), false);
+        let idx: Vec<u32> = skin.triangles.iter().flatten().copied().collect();
+        let indices = b.indices(&idx);
+        meshes.push(json!({"name": "skinned hand", "primitives": [{"attributes": {"POSITION": position, "JOINTS_0": joints, "WEIGHTS_0": weights}, "indices": indices, "material": 1}]}));
+        // Inverse bind matrices: the bones' rest frames, which the mesh is posed in.
+        let rest = hand.pose_transforms(
+            &Transform::identity(),
+            &vec![Default::default(); hand.bones().len()],
+        );
+        let ibm: Vec<f32> = rest
+            .iter()
+            .flat_map(|t| {
+                t.inverse()
+                    .to_homogeneous()
+                    .as_slice()
+                    .iter()
+                    .map(|v| *v as f32)
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        let inverse_bind = b.floats(&ibm, "MAT4", 16, None, false);
+        skins.push(json!({"joints": (0..hand.bones().len()).map(|k| first_bone + k).collect::<Vec<_>>(), "inverseBindMatrices": inverse_bind}));
+        nodes.push(json!({"name": "skinned hand", "mesh": meshes.len() - 1, "skin": 0}));
+        scene_nodes.push(nodes.len() - 1);
+    }
     let mut animations = Vec::new();
     if keyframes.len() > 1 {
         let times: Vec<f32> = keyframes.iter().map(|k| k.time as f32).collect();
@@ -238,7 +292,7 @@ pub fn grasp_glb(object: &TriangleMesh, hand: &HandModel, keyframes: &[Keyframe]
     let mut doc = json!({
         "asset": {"version": "2.0", "generator": concat!("prehensile ", env!("CARGO_PKG_VERSION"))},
         "scene": 0,
-        "scenes": [{"nodes": [0, first_bone]}],
+        "scenes": [{"nodes": scene_nodes}],
         "nodes": nodes,
         "meshes": meshes,
         "materials": materials,
@@ -248,6 +302,9 @@ pub fn grasp_glb(object: &TriangleMesh, hand: &HandModel, keyframes: &[Keyframe]
     });
     if !animations.is_empty() {
         doc["animations"] = json!(animations);
+    }
+    if !skins.is_empty() {
+        doc["skins"] = json!(skins);
     }
     let mut text = serde_json::to_vec(&doc).expect("JSON values serialize");
     while text.len() % 4 != 0 {

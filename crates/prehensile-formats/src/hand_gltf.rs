@@ -37,8 +37,27 @@ fn human_role(finger: &str, role: usize, bones_in_finger: usize) -> Option<Strin
         .then(|| format!("{finger}_{}", roles[k as usize]))
 }
 
+/// A hand's skinned mesh in the hand frame, weighted to the hand model's bones (a skin joint
+/// that became a fingertip gives its weight to the fingertip's bone).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct SkinnedMesh {
+    /// Vertex positions in the hand frame at the rest pose.
+    pub positions: Vec<Point3>,
+    /// Triangles.
+    pub triangles: Vec<[u32; 3]>,
+    /// Up to four bone indices per vertex.
+    pub joints: Vec<[u16; 4]>,
+    /// Their weights.
+    pub weights: Vec<[f32; 4]>,
+}
+
 /// Reads a skinned glTF/GLB hand.
 pub fn load_hand_gltf(path: &Path) -> Result<HandModel, FormatError> {
+    load_hand_gltf_skinned(path).map(|(hand, _)| hand)
+}
+
+/// Reads a skinned glTF/GLB hand and its skinned mesh.
+pub fn load_hand_gltf_skinned(path: &Path) -> Result<(HandModel, SkinnedMesh), FormatError> {
     let name = path.display().to_string();
     let bytes = std::fs::read(path)
         .map_err(|e| FormatError::new(&name, format!("cannot read the file: {e}")))?;
@@ -149,9 +168,33 @@ pub fn load_hand_gltf(path: &Path) -> Result<HandModel, FormatError> {
     };
     // Radii: per bone, the 25th percentile of its dominant vertices' distances to its segment.
     let mut distances: Vec<Vec<f64>> = vec![Vec::new(); joints.len()];
+    let mut raw: Vec<(Point3, [u16; 4], [f32; 4])> = Vec::new();
+    let mut raw_triangles: Vec<[u32; 3]> = Vec::new();
     for mesh in gltf.document.meshes() {
         for primitive in mesh.primitives() {
             let reader = primitive.reader(buffer);
+            let first = raw.len() as u32;
+            if let (Some(p), Some(j), Some(w)) = (
+                reader.read_positions(),
+                reader.read_joints(0),
+                reader.read_weights(0),
+            ) {
+                raw.extend(
+                    p.zip(j.into_u16()).zip(w.into_f32()).map(|((p, j), w)| {
+                        (Point3::new(p[0] as f64, p[1] as f64, p[2] as f64), j, w)
+                    }),
+                );
+                let count = raw.len() as u32 - first;
+                let indices: Vec<u32> = match reader.read_indices() {
+                    Some(i) => i.into_u32().collect(),
+                    None => (0..count).collect(),
+                };
+                for t in indices.chunks_exact(3) {
+                    if t.iter().all(|&i| i < count) {
+                        raw_triangles.push([first + t[0], first + t[1], first + t[2]]);
+                    }
+                }
+            }
             let (Some(p), Some(j), Some(w)) = (
                 reader.read_positions(),
                 reader.read_joints(0),
@@ -319,5 +362,27 @@ pub fn load_hand_gltf(path: &Path) -> Result<HandModel, FormatError> {
         couplings,
         movements,
     };
-    HandModel::from_description(&desc).map_err(|e| FormatError::new(&name, e.to_string()))
+    let hand =
+        HandModel::from_description(&desc).map_err(|e| FormatError::new(&name, e.to_string()))?;
+    // The skinned mesh in the hand frame, weighted to the model's bones.
+    let bone_of: Vec<u16> = (0..joints.len())
+        .map(|j| {
+            let owner = if is_tip(j) {
+                parent[j].unwrap_or(root)
+            } else {
+                j
+            };
+            hand.bone_index(&names[owner]).unwrap_or(0) as u16
+        })
+        .collect();
+    let mut skinned = SkinnedMesh::default();
+    for (p, j, w) in &raw {
+        skinned.positions.push(Point3::from(to_hand(p)));
+        skinned
+            .joints
+            .push(j.map(|k| bone_of.get(k as usize).copied().unwrap_or(0)));
+        skinned.weights.push(*w);
+    }
+    skinned.triangles = raw_triangles;
+    Ok((hand, skinned))
 }

@@ -14,7 +14,7 @@ fn a_grasp_scene_reads_back_with_its_bones_meshes_and_animation() {
     let fractions = vec![0.6; hand.bones().len()];
     let frames = approach_and_close(&hand, movement, &hook, 0.01, &fractions, 0.1, 12);
     assert_eq!(frames.len(), 25);
-    let bytes = grasp_glb(&mesh, &hand, &frames);
+    let bytes = grasp_glb(&mesh, &hand, &frames, None);
     let gltf = gltf::Gltf::from_slice(&bytes).expect("a valid glTF");
     let names: Vec<&str> = gltf.nodes().filter_map(|n| n.name()).collect();
     assert!(names.contains(&"object") && names.contains(&"index_distal"));

@@ -131,7 +131,7 @@ fn a_glb_scene_is_read_with_its_node_transforms() {
     // Our own export: the object mesh is the first node (identity transform), then the hand.
     let hand = prehensile_formats::builtin_hand("robot3").unwrap();
     let mesh = prehensile_core::shapes::builtin_object("torus").unwrap();
-    let glb = prehensile_formats::grasp_glb(&mesh, &hand, &[]);
+    let glb = prehensile_formats::grasp_glb(&mesh, &hand, &[], None);
     let path = temp("scene.glb", &glb);
     let read = read_mesh(&path, 1.0).unwrap();
     // The object plus one capsule mesh per bone with capsules, all merged.

@@ -57,7 +57,7 @@ pub fn run(args: &DemoArgs) -> Result<i32, CliError> {
                 &picture::grasp_svg(object, &result),
             )?;
             let glb = args.out.join(format!("{stem}.glb"));
-            std::fs::write(&glb, glb_bytes(hand, object, &result)?)
+            std::fs::write(&glb, glb_bytes(hand, object, &result, None)?)
                 .map_err(|e| CliError(format!("cannot write {}: {e}", glb.display())))?;
             if !result.valid {
                 invalid += 1;

@@ -188,11 +188,13 @@ pub fn glb_bytes(
     hand: &HandModel,
     object: &ObjectModel,
     result: &GraspResult,
+    skin: Option<&prehensile_formats::SkinnedMesh>,
 ) -> Result<Vec<u8>, CliError> {
     Ok(prehensile_formats::grasp_glb(
         object.mesh(),
         hand,
         &keyframes(hand, result)?,
+        skin,
     ))
 }
 
@@ -259,7 +261,20 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
         None => {}
     }
     if let Some(path) = &args.glb {
-        std::fs::write(path, glb_bytes(&hand, &object, &result)?)
+        // A skinned glTF hand also brings its own mesh, posed by the bones.
+        let is_gltf = [".glb", ".gltf"]
+            .iter()
+            .any(|e| args.hand.to_ascii_lowercase().ends_with(e));
+        let skin = if is_gltf {
+            Some(
+                prehensile_formats::load_hand_gltf_skinned(std::path::Path::new(&args.hand))
+                    .map_err(CliError::from_display)?
+                    .1,
+            )
+        } else {
+            None
+        };
+        std::fs::write(path, glb_bytes(&hand, &object, &result, skin.as_ref())?)
             .map_err(|e| CliError(format!("cannot write {}: {e}", path.display())))?;
     }
     if let Some(path) = &args.bvh {
