@@ -71,9 +71,14 @@ fn the_skinned_mesh_follows_its_bones_when_the_hand_closes() {
     let (hand, skin) = prehensile_formats::load_hand_gltf_skinned(&webxr("right")).unwrap();
     assert_eq!(skin.positions.len(), skin.joints.len());
     assert!(skin.triangles.len() > 2000);
-    let rest = hand.pose_transforms(&Transform::identity(), &vec![Default::default(); hand.bones().len()]);
+    let rest = hand.pose_transforms(
+        &Transform::identity(),
+        &vec![Default::default(); hand.bones().len()],
+    );
     let power = hand.movement("power").unwrap();
-    let rotations: Vec<_> = (0..hand.bones().len()).map(|b| power.rotation_at(b, 0.8)).collect();
+    let rotations: Vec<_> = (0..hand.bones().len())
+        .map(|b| power.rotation_at(b, 0.8))
+        .collect();
     let posed = hand.pose_transforms(&Transform::identity(), &rotations);
     let mut far = 0;
     for ((v, j), w) in skin.positions.iter().zip(&skin.joints).zip(&skin.weights) {
@@ -90,7 +95,8 @@ fn the_skinned_mesh_follows_its_bones_when_the_hand_closes() {
             .map(|c| {
                 let (a, b) = (posed[main] * c.a, posed[main] * c.b);
                 let ab = b - a;
-                let t = ((Point3::from(p) - a).dot(&ab) / ab.norm_squared().max(1e-18)).clamp(0.0, 1.0);
+                let t =
+                    ((Point3::from(p) - a).dot(&ab) / ab.norm_squared().max(1e-18)).clamp(0.0, 1.0);
                 (a + ab * t - Point3::from(p)).norm()
             })
             .fold(f64::INFINITY, f64::min);
@@ -100,5 +106,9 @@ fn the_skinned_mesh_follows_its_bones_when_the_hand_closes() {
     }
     // Vertices stay with their bones: at most a few percent lie more than 3.5 cm from the
     // capsule of the bone that weighs most on them (blending across joints).
-    assert!(far * 100 < skin.positions.len() * 3, "{far} of {} vertices left their bones", skin.positions.len());
+    assert!(
+        far * 100 < skin.positions.len() * 3,
+        "{far} of {} vertices left their bones",
+        skin.positions.len()
+    );
 }
