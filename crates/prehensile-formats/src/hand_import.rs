@@ -216,5 +216,6 @@ pub fn bone(name: &str, parent: Option<&str>, rest: Transform) -> BonePart {
         capsules: Vec::new(),
         tip: None,
         finger: None,
+        inertial: None,
     }
 }

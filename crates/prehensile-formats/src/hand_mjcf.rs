@@ -8,7 +8,7 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use prehensile_core::hand::{Axis, HandParts, Joint};
+use prehensile_core::hand::{Axis, HandParts, Inertial, Joint};
 use prehensile_core::math::{Point3, Rotation, Transform, Vec3};
 use prehensile_core::HandModel;
 use roxmltree::{Document, Node};
@@ -307,6 +307,45 @@ pub fn parse_hand_mjcf_with(
             Transform::identity()
         };
         let mut part = bone(&name, parent.as_deref(), rest);
+        if let Some(i) = body.children().find(|c| c.has_tag_name("inertial")) {
+            let frame = frame_of(i)?;
+            let mass = i
+                .attribute("mass")
+                .map_or(Ok(vec![0.0]), |m| numbers(i, m, "mass"))?;
+            let tensor = if let Some(d) = i.attribute("diaginertia") {
+                match numbers(i, d, "diaginertia")?.as_slice() {
+                    [a, b, c] => nalgebra::Matrix3::from_diagonal(&Vec3::new(*a, *b, *c)),
+                    _ => {
+                        return Err(FormatError::at(
+                            source,
+                            at(i),
+                            "diaginertia needs three numbers",
+                        ))
+                    }
+                }
+            } else if let Some(f) = i.attribute("fullinertia") {
+                match numbers(i, f, "fullinertia")?.as_slice() {
+                    [xx, yy, zz, xy, xz, yz] => {
+                        nalgebra::Matrix3::new(*xx, *xy, *xz, *xy, *yy, *yz, *xz, *yz, *zz)
+                    }
+                    _ => {
+                        return Err(FormatError::at(
+                            source,
+                            at(i),
+                            "fullinertia needs six numbers",
+                        ))
+                    }
+                }
+            } else {
+                nalgebra::Matrix3::zeros()
+            };
+            let r = frame.rotation.to_rotation_matrix().into_inner();
+            part.inertial = Some(Inertial {
+                mass: mass.first().copied().unwrap_or(0.0),
+                center_of_mass: Point3::from(frame.translation.vector),
+                inertia: r * tensor * r.transpose(),
+            });
+        }
         let joints: Vec<Node> = body
             .children()
             .filter(|c| c.has_tag_name("joint"))

@@ -5,7 +5,7 @@
 
 use std::collections::HashMap;
 
-use prehensile_core::hand::{Axis, HandParts, Joint};
+use prehensile_core::hand::{Axis, HandParts, Inertial, Joint};
 use prehensile_core::math::{Point3, Rotation, Transform, Vec3};
 use prehensile_core::HandModel;
 use roxmltree::{Document, Node};
@@ -16,6 +16,7 @@ use crate::FormatError;
 struct Link {
     mass: f64,
     com: Point3,
+    inertial: Option<Inertial>,
     capsules: Vec<(Point3, Point3, f64)>,
 }
 
@@ -47,12 +48,36 @@ pub fn parse_hand_urdf_with(
         let name = attr(link, "name", source, &at)?.to_string();
         let mut mass = 0.0;
         let mut com = Point3::origin();
+        let mut full = None;
         if let Some(inertial) = child(link, "inertial") {
             if let Some(m) = child(inertial, "mass") {
                 mass = number(m, "value", source, &at)?;
             }
-            if let Some(o) = child(inertial, "origin") {
-                com = Point3::from(origin(o, source, &at)?.translation.vector);
+            let frame = match child(inertial, "origin") {
+                Some(o) => origin(o, source, &at)?,
+                None => Transform::identity(),
+            };
+            com = Point3::from(frame.translation.vector);
+            if let Some(i) = child(inertial, "inertia") {
+                let v = |n: &str| {
+                    i.attribute(n)
+                        .map_or(Ok(0.0), |_| number(i, n, source, &at))
+                };
+                let (xx, xy, xz, yy, yz, zz) = (
+                    v("ixx")?,
+                    v("ixy")?,
+                    v("ixz")?,
+                    v("iyy")?,
+                    v("iyz")?,
+                    v("izz")?,
+                );
+                let tensor = nalgebra::Matrix3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz);
+                let r = frame.rotation.to_rotation_matrix().into_inner();
+                full = Some(Inertial {
+                    mass,
+                    center_of_mass: com,
+                    inertia: r * tensor * r.transpose(),
+                });
             }
         }
         let mut capsules = Vec::new();
@@ -111,6 +136,7 @@ pub fn parse_hand_urdf_with(
             Link {
                 mass,
                 com,
+                inertial: full,
                 capsules,
             },
         );
@@ -225,6 +251,7 @@ pub fn parse_hand_urdf_with(
         let ends = &child_joints[name];
         let part = bones.get_mut(name).expect("every link is a bone");
         part.capsules = link.capsules.clone();
+        part.inertial = link.inertial;
         if part.capsules.is_empty() {
             if *name == root {
                 // The palm: a capsule to each finger's first joint.

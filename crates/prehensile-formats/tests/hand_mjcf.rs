@@ -44,6 +44,10 @@ fn the_shadow_hand_imports_from_its_scene_with_joint_names_and_tendons() {
     let proximal = hand.bone_index("robot0:ffproximal").unwrap();
     let c = hand.bone_capsules(proximal)[0];
     assert!((c.radius - 0.01).abs() < 1e-12 && ((c.b - c.a).norm() - 0.045).abs() < 1e-9);
+    let inertial = hand.bones()[proximal].inertial.unwrap();
+    assert_eq!(inertial.mass, 0.014);
+    assert!((inertial.center_of_mass.z - 0.023).abs() < 1e-12);
+    assert!((inertial.inertia.trace() - 3e-5).abs() < 1e-15);
     // The distal tendons couple J0 to J1 in each of the four fingers.
     assert_eq!(hand.couplings().len(), 4);
     let ff0 = hand

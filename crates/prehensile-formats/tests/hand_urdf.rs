@@ -34,6 +34,19 @@ fn the_oracle_hand_tree_imports_with_its_joint_names() {
             < 1e-12
     );
     assert_eq!(hand.bone_capsules(0).len(), 5);
+    // Inertials as the file gives them, in the link frame.
+    let palm = hand.bones()[0].inertial.unwrap();
+    assert_eq!(palm.mass, 0.35);
+    assert_eq!(palm.center_of_mass, Point3::new(0.0, 0.0, 0.045));
+    assert_eq!(palm.inertia[(0, 0)], 3.2e-4);
+    assert_eq!(palm.inertia[(2, 2)], 1.1e-4);
+    let mass: f64 = hand
+        .bones()
+        .iter()
+        .filter_map(|b| b.inertial)
+        .map(|i| i.mass)
+        .sum();
+    assert!(mass > 0.35 && mass < 0.6, "{mass}");
 }
 
 #[test]

@@ -118,6 +118,8 @@ pub struct BonePart {
     pub tip: Option<Point3>,
     /// Name of the finger this bone starts (only read on a child of the root).
     pub finger: Option<String>,
+    /// Mass properties, if known.
+    pub inertial: Option<super::model::Inertial>,
 }
 
 /// A hand given directly as bones with rest transforms, joints and capsules.
@@ -330,6 +332,7 @@ impl HandModel {
                 joint: b.joint.clone(),
                 first_dof: dof,
                 finger: None,
+                inertial: b.inertial,
             });
             dof += b.joint.dofs();
             dof_names.extend(b.dof_names.iter().cloned());
@@ -517,6 +520,7 @@ impl HandModel {
                         .tip
                         .map(|t| frames[i].inverse_transform_point(&Point3::from(t))),
                     finger: b.finger.clone(),
+                    inertial: None,
                 }
             })
             .collect();

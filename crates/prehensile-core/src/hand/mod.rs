@@ -10,4 +10,4 @@ pub use build::{BonePart, HandError, HandParts};
 pub use description::{
     BoneDescription, CouplingDescription, HandDescription, JointDescription, MovementDescription,
 };
-pub use model::{Axis, Bone, BoneCapsule, Coupling, Finger, HandModel, Joint};
+pub use model::{Axis, Bone, BoneCapsule, Coupling, Finger, HandModel, Inertial, Joint};

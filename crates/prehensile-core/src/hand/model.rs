@@ -118,6 +118,20 @@ pub struct Bone {
     pub first_dof: usize,
     /// Finger this bone belongs to, `None` for the root.
     pub finger: Option<usize>,
+    /// Mass properties, when the source file gives them (URDF, MJCF).
+    pub inertial: Option<Inertial>,
+}
+
+/// A bone's mass, centre of mass and rotational inertia about the centre of mass, in the bone
+/// frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Inertial {
+    /// Mass, kg.
+    pub mass: f64,
+    /// Centre of mass, bone frame, metres.
+    pub center_of_mass: Point3,
+    /// Inertia tensor about the centre of mass, bone frame axes, kg·m².
+    pub inertia: nalgebra::Matrix3<f64>,
 }
 
 /// A capsule attached to a bone, endpoints in the bone frame.
