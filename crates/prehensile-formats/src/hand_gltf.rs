@@ -59,6 +59,16 @@ pub fn load_hand_gltf(path: &Path) -> Result<HandModel, FormatError> {
 /// Reads a skinned glTF/GLB hand and its skinned mesh.
 pub fn load_hand_gltf_skinned(path: &Path) -> Result<(HandModel, SkinnedMesh), FormatError> {
     let name = path.display().to_string();
+    let sidecar = crate::Sidecar::beside(path)?;
+    if sidecar
+        .as_ref()
+        .is_some_and(|s| !s.tips.is_empty() || !s.close.is_empty())
+    {
+        return Err(FormatError::new(
+            &name,
+            "a skinned hand's sidecar may only name fingers ([fingers]); fingertips come from joints named …tip or …end, movements from the human hand",
+        ));
+    }
     let bytes = std::fs::read(path)
         .map_err(|e| FormatError::new(&name, format!("cannot read the file: {e}")))?;
     let gltf = gltf::Gltf::from_slice(&bytes)
@@ -234,9 +244,10 @@ pub fn load_hand_gltf_skinned(path: &Path) -> Result<(HandModel, SkinnedMesh), F
         while let Some(next) = children(*chain.last().expect("non-empty")).find(|&k| !is_tip(k)) {
             chain.push(next);
         }
-        let finger = chain
-            .iter()
-            .find_map(|&i| finger_name(&names[i]))
+        let finger = sidecar
+            .as_ref()
+            .and_then(|s| s.fingers.get(&names[c]).map(String::as_str))
+            .or_else(|| chain.iter().find_map(|&i| finger_name(&names[i])))
             .ok_or_else(|| FormatError::new(&name, format!("cannot tell which finger joint '{}' belongs to; name it thumb, index, middle, ring or little", names[c])))?;
         for (role, &i) in chain.iter().enumerate() {
             finger_of[i] = Some((finger.to_string(), role, chain.len()));

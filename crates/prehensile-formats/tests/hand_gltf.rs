@@ -112,3 +112,29 @@ fn the_skinned_mesh_follows_its_bones_when_the_hand_closes() {
         skin.positions.len()
     );
 }
+
+#[test]
+fn a_sidecar_names_the_fingers_of_a_skin() {
+    let dir = std::env::temp_dir().join(format!("prehensile-gltf-sidecar-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let glb = dir.join("hand.glb");
+    std::fs::copy(webxr("right"), &glb).unwrap();
+    // Swap index and middle by name: the roles and movements follow the sidecar.
+    std::fs::write(
+        dir.join("hand.prehensile.toml"),
+        "[fingers]\n\"index-finger-metacarpal\" = \"middle\"\n\"middle-finger-metacarpal\" = \"index\"\n",
+    )
+    .unwrap();
+    let hand = load_hand(&glb).unwrap();
+    let index = &hand.fingers()[hand.finger_index("index").unwrap()];
+    assert_eq!(
+        hand.bones()[index.bones[0]].name,
+        "middle-finger-metacarpal"
+    );
+    std::fs::write(
+        dir.join("hand.prehensile.toml"),
+        "[tips]\n\"x\" = [0.0, 0.0, 0.0]\n",
+    )
+    .unwrap();
+    assert!(load_hand(&glb).unwrap_err().reason.contains("[fingers]"));
+}

@@ -91,3 +91,14 @@ proptest! {
         let _ = prehensile_formats::load_hand_gltf(&path);
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+
+    /// Mutated hand files in our TOML format give errors, never panics.
+    #[test]
+    fn hand_toml_survives_mutation(edits in proptest::collection::vec((any::<usize>(), prop::sample::select(b"0123456789.-[]=\" \nabz".to_vec())), 1..6)) {
+        let bytes = mutate(asset("hands/human.toml"), &edits, 0);
+        let _ = prehensile_formats::parse_hand_toml(&String::from_utf8_lossy(&bytes), "m.toml");
+    }
+}
