@@ -48,11 +48,9 @@ pub enum Command {
     Demo(DemoArgs),
 }
 
-/// `prehensile check`.
+/// How a mesh file is read: its unit, a scale, and an optional repair.
 #[derive(Debug, Args)]
-pub struct CheckArgs {
-    /// Mesh file (.obj, .stl, .ply).
-    pub mesh: PathBuf,
+pub struct MeshOptions {
     /// Multiply coordinates by this factor (after --units).
     #[arg(long, default_value_t = 1.0)]
     pub scale: f64,
@@ -62,6 +60,23 @@ pub struct CheckArgs {
     /// Repair: merge vertices closer than this many metres first (e.g. 1e-6 for hairline seams).
     #[arg(long)]
     pub weld: Option<f64>,
+}
+
+impl MeshOptions {
+    /// Metres per file unit times the scale.
+    pub fn factor(&self) -> f64 {
+        self.scale * self.units.metres()
+    }
+}
+
+/// `prehensile check`.
+#[derive(Debug, Args)]
+pub struct CheckArgs {
+    /// Mesh file (.obj, .stl, .ply).
+    pub mesh: PathBuf,
+    /// Units, scale and repair of the mesh.
+    #[command(flatten)]
+    pub mesh_options: MeshOptions,
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
@@ -87,15 +102,9 @@ pub struct GraspArgs {
     /// A built-in object (sphere, box, cylinder, torus, mug) or a mesh file (.obj, .stl, .ply).
     #[arg(long, default_value = "sphere")]
     pub object: String,
-    /// Multiply the mesh's coordinates by this factor (after --units).
-    #[arg(long, default_value_t = 1.0)]
-    pub scale: f64,
-    /// The mesh file's length unit.
-    #[arg(long, value_enum, default_value = "m")]
-    pub units: Units,
-    /// Repair: merge vertices closer than this many metres first (e.g. 1e-6 for hairline seams).
-    #[arg(long)]
-    pub weld: Option<f64>,
+    /// Units, scale and repair of the mesh.
+    #[command(flatten)]
+    pub mesh_options: MeshOptions,
     /// power, precision, close, any movement of the hand, or auto (try each, keep the best).
     #[arg(long, default_value = "auto")]
     pub movement: String,

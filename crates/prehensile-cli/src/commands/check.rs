@@ -8,8 +8,8 @@ use crate::CliError;
 /// Prints the mesh report; exit code 2 when the mesh has defects.
 pub fn run(args: &CheckArgs) -> Result<i32, CliError> {
     let mut mesh =
-        read_mesh(&args.mesh, args.scale * args.units.metres()).map_err(CliError::from_display)?;
-    if let Some(w) = args.weld {
+        read_mesh(&args.mesh, args.mesh_options.factor()).map_err(CliError::from_display)?;
+    if let Some(w) = args.mesh_options.weld {
         if !(w.is_finite() && w > 0.0) {
             return Err(CliError(format!(
                 "--weld {w} must be a positive number of metres"

@@ -211,7 +211,11 @@ pub fn up_axis(s: &str) -> Result<Vec3, CliError> {
 /// Runs `prehensile grasp`.
 pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
     let hand = sources::hand(&args.hand)?;
-    let mut object = sources::object(&args.object, args.scale * args.units.metres(), args.weld)?;
+    let mut object = sources::object(
+        &args.object,
+        args.mesh_options.factor(),
+        args.mesh_options.weld,
+    )?;
     if let Some(h) = args.hook {
         object = object
             .with_hooks(vec![Point3::from(h)])
