@@ -72,7 +72,7 @@ impl MeshOptions {
 /// `prehensile check`.
 #[derive(Debug, Args)]
 pub struct CheckArgs {
-    /// Mesh file (.obj, .stl, .ply).
+    /// Mesh file (.obj, .stl, .ply, .gltf, .glb).
     pub mesh: PathBuf,
     /// Units, scale and repair of the mesh.
     #[command(flatten)]
@@ -96,10 +96,12 @@ pub struct HandsArgs {
 /// `prehensile grasp`.
 #[derive(Debug, Args)]
 pub struct GraspArgs {
-    /// A built-in hand (human, robot3, cartoon4) or a hand file (.toml).
+    /// A built-in hand (human, human-left, robot3, cartoon4) or a hand file (.toml, .urdf, MJCF
+    /// .xml, skinned .glb/.gltf).
     #[arg(long, default_value = "human")]
     pub hand: String,
-    /// A built-in object (sphere, box, cylinder, torus, mug) or a mesh file (.obj, .stl, .ply).
+    /// A built-in object (sphere, box, cylinder, torus, mug) or a mesh file (.obj, .stl, .ply,
+    /// .gltf, .glb).
     #[arg(long, default_value = "sphere")]
     pub object: String,
     /// Units, scale and repair of the mesh.
