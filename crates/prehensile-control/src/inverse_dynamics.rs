@@ -1,0 +1,155 @@
+//! Recursive Newton–Euler inverse dynamics (Featherstone, *Rigid Body Dynamics Algorithms*,
+//! §5.3), in each bone's own frame, with gravity entered as an upward acceleration of the fixed
+//! base. Written by hand: no Rust crate computes dynamics on our hand model's bone tree.
+
+use nalgebra::{DVector, Matrix3};
+use prehensile_core::hand::Joint;
+use prehensile_core::math::{Rotation, Vec3};
+use prehensile_core::HandModel;
+
+/// Why dynamics cannot be computed for this hand or state.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum DynamicsError {
+    /// A joint kind the dynamics do not handle yet.
+    #[error("bone '{0}': only hinge and fixed joints are supported by the dynamics so far")]
+    UnsupportedJoint(String),
+    /// A vector has the wrong length.
+    #[error("{what} has {got} entries, the hand has {expected} degrees of freedom")]
+    Length {
+        /// Which vector.
+        what: &'static str,
+        /// Its length.
+        got: usize,
+        /// Degrees of freedom.
+        expected: usize,
+    },
+    /// A number is NaN or infinite.
+    #[error("{0} contains a non-finite number")]
+    NonFinite(&'static str),
+}
+
+/// Per-bone kinematics of one pass: rotation parent->bone, joint origin in the parent, the joint
+/// axis in the bone frame (zero for fixed joints).
+pub(crate) struct Link {
+    pub to_bone: Matrix3<f64>,
+    pub origin: Vec3,
+    pub axis: Vec3,
+    pub dof: Option<usize>,
+}
+
+pub(crate) fn links(hand: &HandModel, q: &[f64]) -> Result<Vec<Link>, DynamicsError> {
+    hand.bones()
+        .iter()
+        .map(|bone| {
+            let (axis, dof, joint_rotation) = match &bone.joint {
+                Joint::Fixed => (Vec3::zeros(), None, Rotation::identity()),
+                Joint::Hinge(a) => {
+                    let angle = q[bone.first_dof];
+                    (
+                        a.axis.into_inner(),
+                        Some(bone.first_dof),
+                        Rotation::from_axis_angle(&a.axis, angle),
+                    )
+                }
+                _ => return Err(DynamicsError::UnsupportedJoint(bone.name.clone())),
+            };
+            let rotation = bone.rest.rotation * joint_rotation;
+            Ok(Link {
+                to_bone: rotation.to_rotation_matrix().into_inner().transpose(),
+                origin: bone.rest.translation.vector,
+                axis,
+                dof,
+            })
+        })
+        .collect()
+}
+
+pub(crate) fn check(
+    hand: &HandModel,
+    vectors: &[(&'static str, &[f64])],
+) -> Result<(), DynamicsError> {
+    for (what, v) in vectors {
+        if v.len() != hand.dof_count() {
+            return Err(DynamicsError::Length {
+                what,
+                got: v.len(),
+                expected: hand.dof_count(),
+            });
+        }
+        if !v.iter().all(|x| x.is_finite()) {
+            return Err(DynamicsError::NonFinite(what));
+        }
+    }
+    Ok(())
+}
+
+/// Joint torques that produce accelerations `qdd` at positions `q` and velocities `qd`, with the
+/// root bone fixed and `gravity` given in the root bone's frame (m/s²).
+pub fn inverse_dynamics(
+    hand: &HandModel,
+    q: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+    gravity: Vec3,
+) -> Result<DVector<f64>, DynamicsError> {
+    check(hand, &[("q", q), ("qd", qd), ("qdd", qdd)])?;
+    if !gravity.iter().all(|g| g.is_finite()) {
+        return Err(DynamicsError::NonFinite("gravity"));
+    }
+    let links = links(hand, q)?;
+    let n = links.len();
+    let (mut w, mut dw, mut a) = (
+        vec![Vec3::zeros(); n],
+        vec![Vec3::zeros(); n],
+        vec![Vec3::zeros(); n],
+    );
+    let (mut f, mut m) = (vec![Vec3::zeros(); n], vec![Vec3::zeros(); n]);
+    for (i, bone) in hand.bones().iter().enumerate() {
+        let l = &links[i];
+        let (rate, accel) = l.dof.map_or((0.0, 0.0), |k| (qd[k], qdd[k]));
+        match bone.parent {
+            None => {
+                // The fixed base: accelerating upward by -g stands for gravity on every body.
+                a[i] = -gravity;
+            }
+            Some(p) => {
+                let (wp, dwp, ap) = (w[p], dw[p], a[p]);
+                w[i] = l.to_bone * wp + l.axis * rate;
+                dw[i] = l.to_bone * dwp + l.axis * accel + w[i].cross(&(l.axis * rate));
+                a[i] = l.to_bone * (ap + dwp.cross(&l.origin) + wp.cross(&wp.cross(&l.origin)));
+            }
+        }
+        if let Some(inertial) = bone.inertial {
+            let c = inertial.center_of_mass.coords;
+            let ac = a[i] + dw[i].cross(&c) + w[i].cross(&w[i].cross(&c));
+            f[i] = ac * inertial.mass;
+            m[i] =
+                inertial.inertia * dw[i] + w[i].cross(&(inertial.inertia * w[i])) + c.cross(&f[i]);
+        }
+    }
+    let mut tau = DVector::zeros(hand.dof_count());
+    for i in (0..n).rev() {
+        let l = &links[i];
+        if let Some(k) = l.dof {
+            tau[k] = l.axis.dot(&m[i]);
+        }
+        if let Some(p) = hand.bones()[i].parent {
+            let to_parent = l.to_bone.transpose();
+            let (fi, mi) = (to_parent * f[i], to_parent * m[i]);
+            f[p] += fi;
+            m[p] += mi + l.origin.cross(&fi);
+        }
+    }
+    Ok(tau)
+}
+
+/// Torques that hold the hand still against gravity at positions `q`.
+pub fn gravity_torques(
+    hand: &HandModel,
+    q: &[f64],
+    gravity: Vec3,
+) -> Result<DVector<f64>, DynamicsError> {
+    let zero = vec![0.0; hand.dof_count()];
+    inverse_dynamics(hand, q, &zero, &zero, gravity)
+}

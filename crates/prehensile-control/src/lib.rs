@@ -1,0 +1,16 @@
+//! # prehensile-control
+//!
+//! Rigid-body dynamics of a hand model, engine-agnostic (state in, torques out): inverse
+//! dynamics, the joint-space mass matrix, the outboard inertia of every joint (the `I` of Pollard
+//! & Zordan's Eq. 3 and 5) and gravity torques. The Pollard–Zordan controller itself, setpoint
+//! fitting and the simulation are not built yet.
+//!
+//! Conventions: the base is the hand's root bone, fixed; gravity is given in the root bone's
+//! frame; joint vectors follow [`prehensile_core::HandModel::dof_names`].
+#![warn(missing_docs)]
+
+mod inverse_dynamics;
+mod mass_matrix;
+
+pub use inverse_dynamics::{gravity_torques, inverse_dynamics, DynamicsError};
+pub use mass_matrix::{mass_matrix, outboard_inertia};

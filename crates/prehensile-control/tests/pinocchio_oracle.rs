@@ -1,0 +1,113 @@
+//! Inverse dynamics, mass matrix and gravity torques against Pinocchio 4.1 on the URDF hand tree,
+//! read through the formats crate, to 1e-9 relative.
+
+use prehensile_control::{gravity_torques, inverse_dynamics, mass_matrix, outboard_inertia};
+use prehensile_core::math::Vec3;
+
+#[derive(serde::Deserialize)]
+struct Sample {
+    q: Vec<f64>,
+    v: Vec<f64>,
+    a: Vec<f64>,
+    tau: Vec<f64>,
+    mass_matrix: Vec<Vec<f64>>,
+    gravity: Vec<f64>,
+}
+
+#[derive(serde::Deserialize)]
+struct Oracle {
+    joint_order: Vec<String>,
+    gravity: [f64; 3],
+    fixed_base: Vec<Sample>,
+}
+
+fn close(ours: f64, theirs: f64, scale: f64) -> bool {
+    (ours - theirs).abs() <= 1e-9 * scale.max(1e-12)
+}
+
+#[test]
+fn fixed_base_dynamics_match_pinocchio() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let oracle: Oracle = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("tests/data/hand_tree_public_fixed_base.json")).unwrap(),
+    )
+    .unwrap();
+    let hand =
+        prehensile_formats::load_hand(&dir.join("../../assets/hands/urdf/hand_tree_public.urdf"))
+            .unwrap();
+    // Oracle order -> our degree-of-freedom order.
+    let ours: Vec<usize> = oracle
+        .joint_order
+        .iter()
+        .map(|name| hand.dof_names().iter().position(|d| d == name).unwrap())
+        .collect();
+    let reorder = |v: &[f64]| {
+        let mut out = vec![0.0; v.len()];
+        for (k, &i) in ours.iter().enumerate() {
+            out[i] = v[k];
+        }
+        out
+    };
+    let g = Vec3::from(oracle.gravity);
+    assert_eq!(oracle.fixed_base.len(), 20);
+    for (s, sample) in oracle.fixed_base.iter().enumerate() {
+        let (q, v, a) = (reorder(&sample.q), reorder(&sample.v), reorder(&sample.a));
+        let tau = inverse_dynamics(&hand, &q, &v, &a, g).unwrap();
+        let scale = sample.tau.iter().fold(0.0f64, |m, t| m.max(t.abs()));
+        for (k, &i) in ours.iter().enumerate() {
+            assert!(
+                close(tau[i], sample.tau[k], scale),
+                "sample {s} tau {}: {} vs {}",
+                oracle.joint_order[k],
+                tau[i],
+                sample.tau[k]
+            );
+        }
+        let gravity = gravity_torques(&hand, &q, g).unwrap();
+        let scale = sample.gravity.iter().fold(0.0f64, |m, t| m.max(t.abs()));
+        for (k, &i) in ours.iter().enumerate() {
+            assert!(
+                close(gravity[i], sample.gravity[k], scale),
+                "sample {s} gravity {}",
+                oracle.joint_order[k]
+            );
+        }
+        let m = mass_matrix(&hand, &q).unwrap();
+        let scale = sample
+            .mass_matrix
+            .iter()
+            .flatten()
+            .fold(0.0f64, |m, t| m.max(t.abs()));
+        for (r, &i) in ours.iter().enumerate() {
+            for (c, &j) in ours.iter().enumerate() {
+                assert!(
+                    close(m[(i, j)], sample.mass_matrix[r][c], scale),
+                    "sample {s} M[{r}][{c}]: {} vs {}",
+                    m[(i, j)],
+                    sample.mass_matrix[r][c]
+                );
+            }
+        }
+        let outboard = outboard_inertia(&hand, &q).unwrap();
+        assert!(outboard.iter().all(|x| *x > 0.0));
+    }
+}
+
+#[test]
+fn bad_states_are_refused() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let hand =
+        prehensile_formats::load_hand(&dir.join("../../assets/hands/urdf/hand_tree_public.urdf"))
+            .unwrap();
+    let n = hand.dof_count();
+    let zero = vec![0.0; n];
+    assert!(inverse_dynamics(&hand, &zero[..3], &zero, &zero, Vec3::zeros()).is_err());
+    let mut nan = zero.clone();
+    nan[4] = f64::NAN;
+    assert!(inverse_dynamics(&hand, &nan, &zero, &zero, Vec3::zeros()).is_err());
+    assert!(gravity_torques(&hand, &zero, Vec3::new(0.0, f64::INFINITY, 0.0)).is_err());
+    // The human TOML hand has two-axis joints: named, not mis-computed.
+    let human = prehensile_formats::builtin_hand("human").unwrap();
+    let e = mass_matrix(&human, &vec![0.0; human.dof_count()]).unwrap_err();
+    assert!(e.to_string().contains("only hinge and fixed"), "{e}");
+}
