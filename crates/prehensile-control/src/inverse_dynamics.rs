@@ -84,6 +84,29 @@ pub(crate) fn check(
     Ok(())
 }
 
+/// How the root bone (the base) moves, everything in the root bone's frame: angular velocity,
+/// angular acceleration, and the classical linear acceleration of its origin minus gravity.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BaseMotion {
+    /// Angular velocity, rad/s.
+    pub angular_velocity: Vec3,
+    /// Angular acceleration, rad/s².
+    pub angular_acceleration: Vec3,
+    /// Linear acceleration of the base origin minus gravity, m/s².
+    pub linear_acceleration_minus_gravity: Vec3,
+}
+
+impl BaseMotion {
+    /// A base at rest under `gravity` (root frame).
+    pub fn at_rest(gravity: Vec3) -> Self {
+        Self {
+            angular_velocity: Vec3::zeros(),
+            angular_acceleration: Vec3::zeros(),
+            linear_acceleration_minus_gravity: -gravity,
+        }
+    }
+}
+
 /// Joint torques that produce accelerations `qdd` at positions `q` and velocities `qd`, with the
 /// root bone fixed and `gravity` given in the root bone's frame (m/s²).
 pub fn inverse_dynamics(
@@ -93,9 +116,26 @@ pub fn inverse_dynamics(
     qdd: &[f64],
     gravity: Vec3,
 ) -> Result<DVector<f64>, DynamicsError> {
+    inverse_dynamics_moving_base(hand, q, qd, qdd, &BaseMotion::at_rest(gravity))
+}
+
+/// Inverse dynamics with a moving base: with `qd` and `qdd` zero, the torques that hold the
+/// fingers still against gravity and the arm's motion (Pollard & Zordan's τG + τARM, Eq. 2).
+pub fn inverse_dynamics_moving_base(
+    hand: &HandModel,
+    q: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+    base: &BaseMotion,
+) -> Result<DVector<f64>, DynamicsError> {
     check(hand, &[("q", q), ("qd", qd), ("qdd", qdd)])?;
-    if !gravity.iter().all(|g| g.is_finite()) {
-        return Err(DynamicsError::NonFinite("gravity"));
+    let b = [
+        base.angular_velocity,
+        base.angular_acceleration,
+        base.linear_acceleration_minus_gravity,
+    ];
+    if !b.iter().all(|v| v.iter().all(|x| x.is_finite())) {
+        return Err(DynamicsError::NonFinite("base motion"));
     }
     let links = links(hand, q)?;
     let n = links.len();
@@ -110,8 +150,10 @@ pub fn inverse_dynamics(
         let (rate, accel) = l.dof.map_or((0.0, 0.0), |k| (qd[k], qdd[k]));
         match bone.parent {
             None => {
-                // The fixed base: accelerating upward by -g stands for gravity on every body.
-                a[i] = -gravity;
+                // Accelerating the base by -g stands for gravity on every body.
+                w[i] = base.angular_velocity;
+                dw[i] = base.angular_acceleration;
+                a[i] = base.linear_acceleration_minus_gravity;
             }
             Some(p) => {
                 let (wp, dwp, ap) = (w[p], dw[p], a[p]);

@@ -12,5 +12,7 @@
 mod inverse_dynamics;
 mod mass_matrix;
 
-pub use inverse_dynamics::{gravity_torques, inverse_dynamics, DynamicsError};
+pub use inverse_dynamics::{
+    gravity_torques, inverse_dynamics, inverse_dynamics_moving_base, BaseMotion, DynamicsError,
+};
 pub use mass_matrix::{mass_matrix, outboard_inertia};

@@ -111,3 +111,71 @@ fn bad_states_are_refused() {
     let e = mass_matrix(&human, &vec![0.0; human.dof_count()]).unwrap_err();
     assert!(e.to_string().contains("only hinge and fixed"), "{e}");
 }
+
+#[derive(serde::Deserialize)]
+struct MovingSample {
+    base_quaternion_xyzw: [f64; 4],
+    joint_positions: Vec<f64>,
+    base_angular_velocity_world: [f64; 3],
+    base_linear_acceleration_world: [f64; 3],
+    base_angular_acceleration_world: [f64; 3],
+    joint_torques: Vec<f64>,
+}
+
+#[derive(serde::Deserialize)]
+struct MovingOracle {
+    joint_order: Vec<String>,
+    gravity: [f64; 3],
+    samples: Vec<MovingSample>,
+}
+
+#[test]
+fn moving_base_compensation_matches_pinocchio() {
+    use prehensile_control::{inverse_dynamics_moving_base, BaseMotion};
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let oracle: MovingOracle = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("tests/data/hand_tree_public_moving_base.json")).unwrap(),
+    )
+    .unwrap();
+    let hand =
+        prehensile_formats::load_hand(&dir.join("../../assets/hands/urdf/hand_tree_public.urdf"))
+            .unwrap();
+    let ours: Vec<usize> = oracle
+        .joint_order
+        .iter()
+        .map(|n| hand.dof_names().iter().position(|d| d == n).unwrap())
+        .collect();
+    let zero = vec![0.0; hand.dof_count()];
+    assert_eq!(oracle.samples.len(), 20);
+    for (s, sample) in oracle.samples.iter().enumerate() {
+        let [x, y, z, w] = sample.base_quaternion_xyzw;
+        let to_base =
+            nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(w, x, y, z))
+                .inverse();
+        let world = |v: [f64; 3]| to_base * Vec3::from(v);
+        let base = BaseMotion {
+            angular_velocity: world(sample.base_angular_velocity_world),
+            angular_acceleration: world(sample.base_angular_acceleration_world),
+            linear_acceleration_minus_gravity: world(sample.base_linear_acceleration_world)
+                - to_base * Vec3::from(oracle.gravity),
+        };
+        let mut q = vec![0.0; hand.dof_count()];
+        for (k, &i) in ours.iter().enumerate() {
+            q[i] = sample.joint_positions[k];
+        }
+        let tau = inverse_dynamics_moving_base(&hand, &q, &zero, &zero, &base).unwrap();
+        let scale = sample
+            .joint_torques
+            .iter()
+            .fold(0.0f64, |m, t| m.max(t.abs()));
+        for (k, &i) in ours.iter().enumerate() {
+            assert!(
+                close(tau[i], sample.joint_torques[k], scale),
+                "sample {s} {}: {} vs {}",
+                oracle.joint_order[k],
+                tau[i],
+                sample.joint_torques[k]
+            );
+        }
+    }
+}
