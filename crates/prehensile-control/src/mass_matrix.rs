@@ -1,24 +1,80 @@
-//! The joint-space mass matrix, column by column from inverse dynamics with unit accelerations
-//! (no gravity, no velocity): exact, O(n²) inverse-dynamics passes. The composite-rigid-body
-//! algorithm (O(n²) flops in one pass) is the planned faster replacement.
+//! The joint-space mass matrix by the composite-rigid-body algorithm (Featherstone, *Rigid Body
+//! Dynamics Algorithms*, §6.2), with 6×6 spatial inertias in each bone's frame, `[ω; v]` order.
 
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, Matrix3, Matrix6, Vector6};
 use prehensile_core::math::Vec3;
 use prehensile_core::HandModel;
 
-use crate::inverse_dynamics::{inverse_dynamics, DynamicsError};
+use crate::inverse_dynamics::{check, links, DynamicsError};
+
+fn skew(v: &Vec3) -> Matrix3<f64> {
+    v.cross_matrix()
+}
+
+/// Spatial motion transform from the parent's frame to the bone's: rotation `e` (parent→bone),
+/// bone origin `r` in the parent frame.
+fn motion_transform(e: &Matrix3<f64>, r: &Vec3) -> Matrix6<f64> {
+    let mut x = Matrix6::zeros();
+    x.fixed_view_mut::<3, 3>(0, 0).copy_from(e);
+    x.fixed_view_mut::<3, 3>(3, 3).copy_from(e);
+    x.fixed_view_mut::<3, 3>(3, 0).copy_from(&(-e * skew(r)));
+    x
+}
 
 /// M(q): torques per unit joint acceleration, symmetric.
 pub fn mass_matrix(hand: &HandModel, q: &[f64]) -> Result<DMatrix<f64>, DynamicsError> {
-    let n = hand.dof_count();
-    let zero = vec![0.0; n];
-    let mut m = DMatrix::zeros(n, n);
-    let mut unit = vec![0.0; n];
-    for j in 0..n {
-        unit[j] = 1.0;
-        let column = inverse_dynamics(hand, q, &zero, &unit, Vec3::zeros())?;
-        m.set_column(j, &column);
-        unit[j] = 0.0;
+    check(hand, &[("q", q)])?;
+    let links = links(hand, q)?;
+    let n = links.len();
+    // Spatial inertia of each bone about its frame origin.
+    let mut composite: Vec<Matrix6<f64>> = hand
+        .bones()
+        .iter()
+        .map(|b| {
+            let Some(i) = b.inertial else {
+                return Matrix6::zeros();
+            };
+            let c = skew(&i.center_of_mass.coords);
+            let mut s = Matrix6::zeros();
+            s.fixed_view_mut::<3, 3>(0, 0)
+                .copy_from(&(i.inertia + c * c.transpose() * i.mass));
+            s.fixed_view_mut::<3, 3>(0, 3).copy_from(&(c * i.mass));
+            s.fixed_view_mut::<3, 3>(3, 0)
+                .copy_from(&(c.transpose() * i.mass));
+            s.fixed_view_mut::<3, 3>(3, 3)
+                .copy_from(&(Matrix3::identity() * i.mass));
+            s
+        })
+        .collect();
+    let transforms: Vec<Matrix6<f64>> = links
+        .iter()
+        .map(|l| motion_transform(&l.to_bone, &l.origin))
+        .collect();
+    for i in (0..n).rev() {
+        if let Some(p) = hand.bones()[i].parent {
+            let add = transforms[i].transpose() * composite[i] * transforms[i];
+            composite[p] += add;
+        }
+    }
+    let subspace = |i: usize| -> Vector6<f64> {
+        let a = links[i].axis;
+        Vector6::new(a.x, a.y, a.z, 0.0, 0.0, 0.0)
+    };
+    let mut m = DMatrix::zeros(hand.dof_count(), hand.dof_count());
+    for i in 0..n {
+        let Some(di) = links[i].dof else { continue };
+        let mut force = composite[i] * subspace(i);
+        m[(di, di)] = subspace(i).dot(&force);
+        let mut j = i;
+        while let Some(p) = hand.bones()[j].parent {
+            force = transforms[j].transpose() * force;
+            j = p;
+            if let Some(dj) = links[j].dof {
+                let value = subspace(j).dot(&force);
+                m[(di, dj)] = value;
+                m[(dj, di)] = value;
+            }
+        }
     }
     Ok(m)
 }

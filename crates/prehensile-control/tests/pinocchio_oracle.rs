@@ -90,6 +90,16 @@ fn fixed_base_dynamics_match_pinocchio() {
         }
         let outboard = outboard_inertia(&hand, &q).unwrap();
         assert!(outboard.iter().all(|x| *x > 0.0));
+        // Cross-check: each column is also the torque for a unit acceleration (no gravity).
+        let zero = vec![0.0; q.len()];
+        for j in [0, 7, 19] {
+            let mut unit = zero.clone();
+            unit[j] = 1.0;
+            let column = inverse_dynamics(&hand, &q, &zero, &unit, Vec3::zeros()).unwrap();
+            for i in 0..q.len() {
+                assert!(close(m[(i, j)], column[i], scale));
+            }
+        }
     }
 }
 
