@@ -3,7 +3,7 @@
 //! base. Written by hand: no Rust crate computes dynamics on our hand model's bone tree.
 
 use nalgebra::{DVector, Matrix3};
-use prehensile_core::hand::Joint;
+use prehensile_core::hand::{Inertial, Joint};
 use prehensile_core::math::{Rotation, Vec3};
 use prehensile_core::HandModel;
 
@@ -12,7 +12,7 @@ use prehensile_core::HandModel;
 #[non_exhaustive]
 pub enum DynamicsError {
     /// A joint kind the dynamics do not handle yet.
-    #[error("bone '{0}': only hinge and fixed joints are supported by the dynamics so far")]
+    #[error("bone '{0}': ball joints are not supported by the dynamics yet (hinge, two-axis and fixed are)")]
     UnsupportedJoint(String),
     /// A vector has the wrong length.
     #[error("{what} has {got} entries, the hand has {expected} degrees of freedom")]
@@ -29,40 +29,73 @@ pub enum DynamicsError {
     NonFinite(&'static str),
 }
 
-/// Per-bone kinematics of one pass: rotation parent->bone, joint origin in the parent, the joint
-/// axis in the bone frame (zero for fixed joints).
+/// One link of the dynamics chain. Every hinge bone is one link; a two-axis bone is two hinges
+/// in series (outer axis, then a massless link, then the inner axis carrying the bone's mass),
+/// exactly its rotation R = R(abduction)·R(flexion).
 pub(crate) struct Link {
+    /// Rotation from the parent link's frame to this link's.
     pub to_bone: Matrix3<f64>,
+    /// This link's origin in the parent link's frame.
     pub origin: Vec3,
+    /// Joint axis in this link's frame (zero for fixed joints).
     pub axis: Vec3,
+    /// Degree of freedom the axis turns, if any.
     pub dof: Option<usize>,
+    /// Parent link.
+    pub parent: Option<usize>,
+    /// Mass properties carried by this link.
+    pub inertial: Option<Inertial>,
 }
 
 pub(crate) fn links(hand: &HandModel, q: &[f64]) -> Result<Vec<Link>, DynamicsError> {
-    hand.bones()
-        .iter()
-        .map(|bone| {
-            let (axis, dof, joint_rotation) = match &bone.joint {
-                Joint::Fixed => (Vec3::zeros(), None, Rotation::identity()),
-                Joint::Hinge(a) => {
-                    let angle = q[bone.first_dof];
-                    (
-                        a.axis.into_inner(),
-                        Some(bone.first_dof),
-                        Rotation::from_axis_angle(&a.axis, angle),
-                    )
-                }
-                _ => return Err(DynamicsError::UnsupportedJoint(bone.name.clone())),
-            };
-            let rotation = bone.rest.rotation * joint_rotation;
-            Ok(Link {
-                to_bone: rotation.to_rotation_matrix().into_inner().transpose(),
+    let mut out: Vec<Link> = Vec::with_capacity(hand.bones().len() + 8);
+    // The link that carries each bone's frame (its last link).
+    let mut carrier = vec![0usize; hand.bones().len()];
+    for (k, bone) in hand.bones().iter().enumerate() {
+        let parent = bone.parent.map(|p| carrier[p]);
+        let rotate =
+            |axis: &nalgebra::Unit<Vec3>, angle: f64| Rotation::from_axis_angle(axis, angle);
+        let to = |r: Rotation| r.to_rotation_matrix().into_inner().transpose();
+        match &bone.joint {
+            Joint::Fixed => out.push(Link {
+                to_bone: to(bone.rest.rotation),
                 origin: bone.rest.translation.vector,
-                axis,
-                dof,
-            })
-        })
-        .collect()
+                axis: Vec3::zeros(),
+                dof: None,
+                parent,
+                inertial: bone.inertial,
+            }),
+            Joint::Hinge(a) => out.push(Link {
+                to_bone: to(bone.rest.rotation * rotate(&a.axis, q[bone.first_dof])),
+                origin: bone.rest.translation.vector,
+                axis: a.axis.into_inner(),
+                dof: Some(bone.first_dof),
+                parent,
+                inertial: bone.inertial,
+            }),
+            Joint::TwoAxis { flexion, abduction } => {
+                out.push(Link {
+                    to_bone: to(bone.rest.rotation * rotate(&abduction.axis, q[bone.first_dof + 1])),
+                    origin: bone.rest.translation.vector,
+                    axis: abduction.axis.into_inner(),
+                    dof: Some(bone.first_dof + 1),
+                    parent,
+                    inertial: None,
+                });
+                out.push(Link {
+                    to_bone: to(rotate(&flexion.axis, q[bone.first_dof])),
+                    origin: Vec3::zeros(),
+                    axis: flexion.axis.into_inner(),
+                    dof: Some(bone.first_dof),
+                    parent: Some(out.len() - 1),
+                    inertial: bone.inertial,
+                });
+            }
+            Joint::Ball { .. } => return Err(DynamicsError::UnsupportedJoint(bone.name.clone())),
+        }
+        carrier[k] = out.len() - 1;
+    }
+    Ok(out)
 }
 
 pub(crate) fn check(
@@ -145,10 +178,10 @@ pub fn inverse_dynamics_moving_base(
         vec![Vec3::zeros(); n],
     );
     let (mut f, mut m) = (vec![Vec3::zeros(); n], vec![Vec3::zeros(); n]);
-    for (i, bone) in hand.bones().iter().enumerate() {
+    for i in 0..n {
         let l = &links[i];
         let (rate, accel) = l.dof.map_or((0.0, 0.0), |k| (qd[k], qdd[k]));
-        match bone.parent {
+        match l.parent {
             None => {
                 // Accelerating the base by -g stands for gravity on every body.
                 w[i] = base.angular_velocity;
@@ -162,7 +195,7 @@ pub fn inverse_dynamics_moving_base(
                 a[i] = l.to_bone * (ap + dwp.cross(&l.origin) + wp.cross(&wp.cross(&l.origin)));
             }
         }
-        if let Some(inertial) = bone.inertial {
+        if let Some(inertial) = l.inertial {
             let c = inertial.center_of_mass.coords;
             let ac = a[i] + dw[i].cross(&c) + w[i].cross(&w[i].cross(&c));
             f[i] = ac * inertial.mass;
@@ -176,7 +209,7 @@ pub fn inverse_dynamics_moving_base(
         if let Some(k) = l.dof {
             tau[k] = l.axis.dot(&m[i]);
         }
-        if let Some(p) = hand.bones()[i].parent {
+        if let Some(p) = l.parent {
             let to_parent = l.to_bone.transpose();
             let (fi, mi) = (to_parent * f[i], to_parent * m[i]);
             f[p] += fi;

@@ -27,8 +27,7 @@ pub fn mass_matrix(hand: &HandModel, q: &[f64]) -> Result<DMatrix<f64>, Dynamics
     let links = links(hand, q)?;
     let n = links.len();
     // Spatial inertia of each bone about its frame origin.
-    let mut composite: Vec<Matrix6<f64>> = hand
-        .bones()
+    let mut composite: Vec<Matrix6<f64>> = links
         .iter()
         .map(|b| {
             let Some(i) = b.inertial else {
@@ -51,7 +50,7 @@ pub fn mass_matrix(hand: &HandModel, q: &[f64]) -> Result<DMatrix<f64>, Dynamics
         .map(|l| motion_transform(&l.to_bone, &l.origin))
         .collect();
     for i in (0..n).rev() {
-        if let Some(p) = hand.bones()[i].parent {
+        if let Some(p) = links[i].parent {
             let add = transforms[i].transpose() * composite[i] * transforms[i];
             composite[p] += add;
         }
@@ -66,7 +65,7 @@ pub fn mass_matrix(hand: &HandModel, q: &[f64]) -> Result<DMatrix<f64>, Dynamics
         let mut force = composite[i] * subspace(i);
         m[(di, di)] = subspace(i).dot(&force);
         let mut j = i;
-        while let Some(p) = hand.bones()[j].parent {
+        while let Some(p) = links[j].parent {
             force = transforms[j].transpose() * force;
             j = p;
             if let Some(dj) = links[j].dof {

@@ -515,12 +515,15 @@ impl HandModel {
                     rest,
                     joint,
                     dof_names: suffixes.iter().map(|s| format!("{}.{s}", b.name)).collect(),
-                    capsules,
+                    capsules: capsules.clone(),
                     tip: b
                         .tip
                         .map(|t| frames[i].inverse_transform_point(&Point3::from(t))),
                     finger: b.finger.clone(),
-                    inertial: None,
+                    inertial: super::capsule_inertia::capsules_inertial(
+                        &capsules,
+                        super::capsule_inertia::TISSUE_DENSITY,
+                    ),
                 }
             })
             .collect();

@@ -3,6 +3,7 @@
 //! movements.
 
 mod build;
+pub mod capsule_inertia;
 mod description;
 mod model;
 
