@@ -1,0 +1,235 @@
+//! The Pollard & Zordan grasp controller's torque laws and state machine, engine-agnostic:
+//! passive torque toward a neutral pose with joint-limit springs (Eq. 3), active torque toward
+//! setpoints blended by state and distance (Eq. 5–12, Fig. 3), grip strength α (Eq. 15–16), plus
+//! gravity and arm-motion compensation by inverse dynamics (Eq. 2).
+//!
+//! `I` of Eq. 3 and 5 is taken per degree of freedom as the outboard inertia about its axis (the
+//! diagonal of the mass matrix): the paper's hand has ball joints, whose 3×3 blocks reduce to
+//! this for hinge axes.
+
+use nalgebra::DVector;
+use prehensile_core::HandModel;
+
+use crate::inverse_dynamics::{inverse_dynamics_moving_base, BaseMotion, DynamicsError};
+use crate::mass_matrix::outboard_inertia;
+
+/// Gains and distances (Pollard & Zordan, Table 1).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Gains {
+    /// Stiffness toward setpoints, 1/s².
+    pub k_s: f64,
+    /// Damping, 1/s.
+    pub k_d: f64,
+    /// Joint-limit stiffness, 1/s² (acts only outside the range).
+    pub k_jl: f64,
+    /// Distance at which gripping starts, m.
+    pub d0: f64,
+    /// Distance at which closing starts, m.
+    pub d1: f64,
+    /// Distance at which opening starts, m.
+    pub d2: f64,
+}
+
+impl Gains {
+    /// Table 1, grasps: k_S 200, k_D 50, k_JL 5000, D0 0, D1 5 cm, D2 30 cm.
+    pub fn grasp() -> Self {
+        Self {
+            k_s: 200.0,
+            k_d: 50.0,
+            k_jl: 5000.0,
+            d0: 0.0,
+            d1: 0.05,
+            d2: 0.3,
+        }
+    }
+
+    /// Table 1, handshake: k_S 300, k_D 60, k_JL 5000, D1 9 cm, D2 20 cm.
+    pub fn handshake() -> Self {
+        Self {
+            k_s: 300.0,
+            k_d: 60.0,
+            k_jl: 5000.0,
+            d0: 0.0,
+            d1: 0.09,
+            d2: 0.2,
+        }
+    }
+}
+
+impl Default for Gains {
+    fn default() -> Self {
+        Self::grasp()
+    }
+}
+
+/// States of the grasp state machine (Fig. 3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GraspState {
+    /// Before a grasp: setpoint 0.
+    Neutral,
+    /// Opening as the object comes within D2.
+    Opening,
+    /// Closing as it comes within D1.
+    Closing,
+    /// Holding at D0.
+    Gripping,
+    /// Letting go (on command).
+    Releasing,
+    /// Opening again as the hand moves away past D0.
+    OpeningAgain,
+    /// Relaxing past D1.
+    Relaxing,
+    /// Back at neutral past D2: setpoint 5.
+    NeutralAgain,
+}
+
+impl GraspState {
+    /// The next state for a hand–object distance, and whether release was asked.
+    pub fn next(self, distance: f64, release: bool, g: &Gains) -> Self {
+        use GraspState::*;
+        match self {
+            Neutral | NeutralAgain if distance < g.d2 && !release => Opening,
+            Opening if distance < g.d1 => Closing,
+            Closing if distance <= g.d0 => Gripping,
+            Gripping if release => Releasing,
+            Releasing if distance > g.d0 => OpeningAgain,
+            OpeningAgain if distance > g.d1 => Relaxing,
+            Relaxing if distance > g.d2 => NeutralAgain,
+            s => s,
+        }
+    }
+
+    /// Blend weights B over the six setpoints (Fig. 3, Eq. 10–12, 15–16).
+    pub fn blend(self, distance: f64, alpha: f64, g: &Gains) -> [f64; 6] {
+        let ramp = |from: f64, to: f64| ((from - distance) / (from - to)).clamp(0.0, 1.0);
+        let mut b = [0.0; 6];
+        match self {
+            GraspState::Neutral => b[0] = 1.0,
+            GraspState::Opening => {
+                b[1] = ramp(g.d2, g.d1);
+                b[0] = 1.0 - b[1];
+            }
+            GraspState::Closing => {
+                b[2] = ramp(g.d1, g.d0);
+                b[1] = 1.0 - b[2];
+            }
+            GraspState::Gripping => {
+                b[2] = 1.0 + alpha;
+                b[1] = -alpha;
+            }
+            GraspState::Releasing => b[3] = 1.0,
+            GraspState::OpeningAgain => {
+                b[3] = ramp(g.d1, g.d0);
+                b[4] = 1.0 - b[3];
+            }
+            GraspState::Relaxing => {
+                b[4] = ramp(g.d2, g.d1);
+                b[5] = 1.0 - b[4];
+            }
+            GraspState::NeutralAgain => b[5] = 1.0,
+        }
+        b
+    }
+}
+
+/// Six setpoints (positions and velocities, one value per degree of freedom each) and the
+/// passive controller's neutral pose and joint limits.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Setpoints {
+    /// θ_0 … θ_5.
+    pub positions: [Vec<f64>; 6],
+    /// θ̇_0 … θ̇_5.
+    pub velocities: [Vec<f64>; 6],
+    /// θ_NEUTRAL.
+    pub neutral: Vec<f64>,
+    /// θ_LIMIT per degree of freedom, `[min, max]`.
+    pub limits: Vec<[f64; 2]>,
+}
+
+/// Passive torque, Eq. 3: τP = I (k_S (θ_N − θ) + k_JL (θ_L − θ) − k_D θ̇), the limit term only
+/// outside the range.
+pub fn passive_torque(
+    inertia: &[f64],
+    q: &[f64],
+    qd: &[f64],
+    s: &Setpoints,
+    g: &Gains,
+) -> Vec<f64> {
+    (0..q.len())
+        .map(|k| {
+            let [lo, hi] = s.limits[k];
+            let outside = if q[k] < lo {
+                lo - q[k]
+            } else if q[k] > hi {
+                hi - q[k]
+            } else {
+                0.0
+            };
+            inertia[k] * (g.k_s * (s.neutral[k] - q[k]) + g.k_jl * outside - g.k_d * qd[k])
+        })
+        .collect()
+}
+
+/// Active torque, Eq. 5–7: τA = I (k_S (B·P_S − θ) + k_D (B·P_D − θ̇)).
+pub fn active_torque(
+    inertia: &[f64],
+    q: &[f64],
+    qd: &[f64],
+    s: &Setpoints,
+    blend: &[f64; 6],
+    g: &Gains,
+) -> Vec<f64> {
+    (0..q.len())
+        .map(|k| {
+            let target: f64 = (0..6).map(|j| blend[j] * s.positions[j][k]).sum();
+            let rate: f64 = (0..6).map(|j| blend[j] * s.velocities[j][k]).sum();
+            inertia[k] * (g.k_s * (target - q[k]) + g.k_d * (rate - qd[k]))
+        })
+        .collect()
+}
+
+/// The controller: state, setpoints, gains and grip strength.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GraspController {
+    /// Gains and distances.
+    pub gains: Gains,
+    /// Setpoints, neutral pose and limits.
+    pub setpoints: Setpoints,
+    /// Grip strength α (the paper uses 0 to 0.5).
+    pub alpha: f64,
+    /// Current state.
+    pub state: GraspState,
+}
+
+impl GraspController {
+    /// Advances the state machine and returns the joint torques τP + τA + τG + τARM for the hand
+    /// at `q`, `qd`, its base moving as `base` (gravity included there), the object `distance`
+    /// away. `compensate` turns the inverse-dynamics terms τG + τARM on.
+    #[allow(clippy::too_many_arguments)]
+    pub fn torques(
+        &mut self,
+        hand: &HandModel,
+        q: &[f64],
+        qd: &[f64],
+        base: &BaseMotion,
+        distance: f64,
+        release: bool,
+        compensate: bool,
+    ) -> Result<DVector<f64>, DynamicsError> {
+        if !distance.is_finite() || !self.alpha.is_finite() {
+            return Err(DynamicsError::NonFinite("distance or grip strength"));
+        }
+        self.state = self.state.next(distance, release, &self.gains);
+        let inertia = outboard_inertia(hand, q)?;
+        let blend = self.state.blend(distance, self.alpha, &self.gains);
+        let passive = passive_torque(&inertia, q, qd, &self.setpoints, &self.gains);
+        let active = active_torque(&inertia, q, qd, &self.setpoints, &blend, &self.gains);
+        let mut tau =
+            DVector::from_iterator(q.len(), passive.iter().zip(&active).map(|(p, a)| p + a));
+        if compensate {
+            let zero = vec![0.0; q.len()];
+            tau += inverse_dynamics_moving_base(hand, q, &zero, &zero, base)?;
+        }
+        Ok(tau)
+    }
+}

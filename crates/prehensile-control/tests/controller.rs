@@ -1,0 +1,174 @@
+//! The controller's torque laws, blends and state machine (Pollard & Zordan, Eq. 3–16, Fig. 3).
+
+use prehensile_control::{
+    active_torque, gravity_torques, outboard_inertia, passive_torque, BaseMotion, Gains,
+    GraspController, GraspState, Setpoints,
+};
+use prehensile_core::math::Vec3;
+
+fn setpoints(n: usize) -> Setpoints {
+    Setpoints {
+        positions: std::array::from_fn(|j| vec![0.1 * j as f64; n]),
+        velocities: std::array::from_fn(|_| vec![0.0; n]),
+        neutral: vec![0.2; n],
+        limits: vec![[0.0, 1.0]; n],
+    }
+}
+
+#[test]
+fn blends_follow_figure_3_and_grip_strength_extrapolates() {
+    let g = Gains::grasp();
+    // Each state's weights sum to one; ramps follow the distance.
+    for (state, distance) in [
+        (GraspState::Neutral, 0.5),
+        (GraspState::Opening, 0.175),
+        (GraspState::Closing, 0.025),
+        (GraspState::Gripping, 0.0),
+        (GraspState::Releasing, 0.0),
+        (GraspState::OpeningAgain, 0.025),
+        (GraspState::Relaxing, 0.175),
+        (GraspState::NeutralAgain, 0.5),
+    ] {
+        let b = state.blend(distance, 0.0, &g);
+        assert!(
+            (b.iter().sum::<f64>() - 1.0).abs() < 1e-12,
+            "{state:?}: {b:?}"
+        );
+    }
+    assert_eq!(
+        GraspState::Opening.blend(0.175, 0.0, &g),
+        [0.5, 0.5, 0.0, 0.0, 0.0, 0.0]
+    );
+    assert_eq!(
+        GraspState::Closing.blend(0.025, 0.0, &g),
+        [0.0, 0.5, 0.5, 0.0, 0.0, 0.0]
+    );
+    // Eq. 15–16: B[2] = 1 + α, B[1] = −α.
+    assert_eq!(
+        GraspState::Gripping.blend(0.0, 0.3, &g),
+        [0.0, -0.3, 1.3, 0.0, 0.0, 0.0]
+    );
+}
+
+#[test]
+fn the_state_machine_runs_a_whole_grasp_and_release() {
+    let g = Gains::grasp();
+    let mut state = GraspState::Neutral;
+    let mut timeline = vec![state];
+    let approach = [0.5, 0.25, 0.1, 0.04, 0.01, 0.0, 0.0];
+    for d in approach {
+        state = state.next(d, false, &g);
+        if timeline.last() != Some(&state) {
+            timeline.push(state);
+        }
+    }
+    for (d, release) in [(0.0, true), (0.01, false), (0.08, false), (0.4, false)] {
+        state = state.next(d, release, &g);
+        if timeline.last() != Some(&state) {
+            timeline.push(state);
+        }
+    }
+    use GraspState::*;
+    assert_eq!(
+        timeline,
+        [
+            Neutral,
+            Opening,
+            Closing,
+            Gripping,
+            Releasing,
+            OpeningAgain,
+            Relaxing,
+            NeutralAgain
+        ]
+    );
+}
+
+#[test]
+fn passive_torque_pulls_to_neutral_and_limits_act_only_outside() {
+    let g = Gains::grasp();
+    let s = setpoints(3);
+    let inertia = [2e-6, 1e-6, 5e-7];
+    // At neutral and at rest: no torque.
+    assert_eq!(
+        passive_torque(&inertia, &[0.2; 3], &[0.0; 3], &s, &g),
+        vec![0.0; 3]
+    );
+    // Inside the limits only the neutral spring and damping act; Eq. 4: τ/I is the same
+    // acceleration change at every joint.
+    let tau = passive_torque(&inertia, &[0.5; 3], &[1.0; 3], &s, &g);
+    let accel: Vec<f64> = tau.iter().zip(&inertia).map(|(t, i)| t / i).collect();
+    assert!(
+        accel
+            .iter()
+            .all(|a| (a - (200.0 * -0.3 - 50.0)).abs() < 1e-9),
+        "{accel:?}"
+    );
+    // Beyond the upper limit the limit spring adds k_JL (θ_L − θ).
+    let over = passive_torque(&inertia, &[1.1; 3], &[0.0; 3], &s, &g);
+    assert!((over[0] / inertia[0] - (200.0 * (0.2 - 1.1) + 5000.0 * (1.0 - 1.1))).abs() < 1e-9);
+    // Active torque toward the blended setpoint.
+    let blend = GraspState::Closing.blend(0.025, 0.0, &g);
+    let active = active_torque(&inertia, &[0.0; 3], &[0.0; 3], &s, &blend, &g);
+    assert!((active[1] / inertia[1] - 200.0 * 0.15).abs() < 1e-9);
+}
+
+#[test]
+fn the_controller_adds_compensation_by_inverse_dynamics() {
+    let hand = prehensile_formats::builtin_hand("human").unwrap();
+    let n = hand.dof_count();
+    let q = vec![0.1; n];
+    let zero = vec![0.0; n];
+    let gravity = Vec3::new(0.0, 0.0, -9.81);
+    let mut s = setpoints(n);
+    s.neutral = q.clone();
+    s.limits = vec![[-3.0, 3.0]; n];
+    s.positions = std::array::from_fn(|_| q.clone());
+    let mut controller = GraspController {
+        gains: Gains::grasp(),
+        setpoints: s,
+        alpha: 0.0,
+        state: GraspState::Neutral,
+    };
+    // At the setpoints and at rest, all that is left is the compensation: gravity torques.
+    let tau = controller
+        .torques(
+            &hand,
+            &q,
+            &zero,
+            &BaseMotion::at_rest(gravity),
+            1.0,
+            false,
+            true,
+        )
+        .unwrap();
+    let expected = gravity_torques(&hand, &q, gravity).unwrap();
+    assert!((tau - expected).amax() < 1e-15);
+    let off = controller
+        .torques(
+            &hand,
+            &q,
+            &zero,
+            &BaseMotion::at_rest(gravity),
+            1.0,
+            false,
+            false,
+        )
+        .unwrap();
+    assert!(off.amax() < 1e-15);
+    assert!(outboard_inertia(&hand, &q)
+        .unwrap()
+        .iter()
+        .all(|i| *i > 0.0));
+    assert!(controller
+        .torques(
+            &hand,
+            &q,
+            &zero,
+            &BaseMotion::at_rest(gravity),
+            f64::NAN,
+            false,
+            true
+        )
+        .is_err());
+}
