@@ -21,6 +21,19 @@ struct Oracle {
     fixed_base: Vec<Sample>,
 }
 
+/// The URDF hand tree and, for each of the oracle's joints in its order, our degree of freedom.
+fn hand_and_order(joint_order: &[String]) -> (prehensile_core::HandModel, Vec<usize>) {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let hand =
+        prehensile_formats::load_hand(&dir.join("../../assets/hands/urdf/hand_tree_public.urdf"))
+            .unwrap();
+    let ours = joint_order
+        .iter()
+        .map(|name| hand.dof_names().iter().position(|d| d == name).unwrap())
+        .collect();
+    (hand, ours)
+}
+
 fn close(ours: f64, theirs: f64, scale: f64) -> bool {
     (ours - theirs).abs() <= 1e-9 * scale.max(1e-12)
 }
@@ -32,15 +45,7 @@ fn fixed_base_dynamics_match_pinocchio() {
         &std::fs::read_to_string(dir.join("tests/data/hand_tree_public_fixed_base.json")).unwrap(),
     )
     .unwrap();
-    let hand =
-        prehensile_formats::load_hand(&dir.join("../../assets/hands/urdf/hand_tree_public.urdf"))
-            .unwrap();
-    // Oracle order -> our degree-of-freedom order.
-    let ours: Vec<usize> = oracle
-        .joint_order
-        .iter()
-        .map(|name| hand.dof_names().iter().position(|d| d == name).unwrap())
-        .collect();
+    let (hand, ours) = hand_and_order(&oracle.joint_order);
     let reorder = |v: &[f64]| {
         let mut out = vec![0.0; v.len()];
         for (k, &i) in ours.iter().enumerate() {
@@ -153,14 +158,7 @@ fn moving_base_compensation_matches_pinocchio() {
         &std::fs::read_to_string(dir.join("tests/data/hand_tree_public_moving_base.json")).unwrap(),
     )
     .unwrap();
-    let hand =
-        prehensile_formats::load_hand(&dir.join("../../assets/hands/urdf/hand_tree_public.urdf"))
-            .unwrap();
-    let ours: Vec<usize> = oracle
-        .joint_order
-        .iter()
-        .map(|n| hand.dof_names().iter().position(|d| d == n).unwrap())
-        .collect();
+    let (hand, ours) = hand_and_order(&oracle.joint_order);
     let zero = vec![0.0; hand.dof_count()];
     assert_eq!(oracle.samples.len(), 20);
     for (s, sample) in oracle.samples.iter().enumerate() {
