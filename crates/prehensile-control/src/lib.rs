@@ -12,6 +12,7 @@
 mod controller;
 mod inverse_dynamics;
 mod mass_matrix;
+mod passive_fitting;
 
 pub use controller::{
     active_torque, passive_torque, Gains, GraspController, GraspState, Setpoints,
@@ -20,3 +21,4 @@ pub use inverse_dynamics::{
     gravity_torques, inverse_dynamics, inverse_dynamics_moving_base, BaseMotion, DynamicsError,
 };
 pub use mass_matrix::{mass_matrix, outboard_inertia};
+pub use passive_fitting::fit_passive;

@@ -172,3 +172,37 @@ fn the_controller_adds_compensation_by_inverse_dynamics() {
         )
         .is_err());
 }
+
+#[test]
+fn passive_parameters_fit_from_a_bvh_motion() {
+    use prehensile_core::animation::approach_and_close;
+    use prehensile_core::math::Transform;
+    // An example motion: the human hand's power grasp exported as BVH and read back.
+    let hand = prehensile_formats::builtin_hand("human").unwrap();
+    let fractions = vec![1.0; hand.bones().len()];
+    let frames = approach_and_close(
+        &hand,
+        hand.movement("power").unwrap(),
+        &Transform::identity(),
+        0.0,
+        &fractions,
+        0.1,
+        10,
+    );
+    let text = prehensile_formats::write_bvh(&hand, &frames, 30.0);
+    let motion = prehensile_formats::parse_bvh(&text, "power.bvh").unwrap();
+    let angles = motion.joint_angles(&hand, "power.bvh").unwrap();
+    let (neutral, limits) = prehensile_control::fit_passive(&angles).unwrap();
+    let k = hand
+        .dof_names()
+        .iter()
+        .position(|d| d == "index_middle.flexion")
+        .unwrap();
+    // The index middle flexion goes from 0 to 100° in this motion.
+    assert!(
+        limits[k][0].abs() < 1e-6 && (limits[k][1] - 100f64.to_radians()).abs() < 1e-6,
+        "{:?}",
+        limits[k]
+    );
+    assert!(neutral[k] > limits[k][0] && neutral[k] < limits[k][1]);
+}
