@@ -9,14 +9,18 @@
 //! frame; joint vectors follow [`prehensile_core::HandModel::dof_names`].
 #![warn(missing_docs)]
 
+mod active_fitting;
 mod controller;
+mod forward_dynamics;
 mod inverse_dynamics;
 mod mass_matrix;
 mod passive_fitting;
 
+pub use active_fitting::fit_active;
 pub use controller::{
     active_torque, passive_torque, Gains, GraspController, GraspState, Setpoints,
 };
+pub use forward_dynamics::forward_dynamics;
 pub use inverse_dynamics::{
     gravity_torques, inverse_dynamics, inverse_dynamics_moving_base, BaseMotion, DynamicsError,
 };

@@ -206,3 +206,65 @@ fn passive_parameters_fit_from_a_bvh_motion() {
     );
     assert!(neutral[k] > limits[k][0] && neutral[k] < limits[k][1]);
 }
+
+#[test]
+fn active_setpoints_fitted_from_a_simulated_motion_recover_the_controller() {
+    use prehensile_control::{fit_active, forward_dynamics};
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let hand =
+        prehensile_formats::load_hand(&dir.join("../../assets/hands/urdf/hand_tree_public.urdf"))
+            .unwrap();
+    let n = hand.dof_count();
+    let gains = Gains::grasp();
+    let gravity = Vec3::new(0.0, 0.0, -9.81);
+    let base = BaseMotion::at_rest(gravity);
+    // The true controller: open pose (setpoint 0) to a half-closed one (setpoint 1).
+    let mut truth = setpoints(n);
+    truth.neutral = vec![0.1; n];
+    truth.limits = vec![[-1.0, 1.6]; n];
+    truth.positions[0] = vec![0.05; n];
+    truth.positions[1] = (0..n).map(|k| 0.2 + 0.03 * k as f64).collect();
+    let mut controller = GraspController {
+        gains,
+        setpoints: truth.clone(),
+        alpha: 0.0,
+        state: GraspState::Opening,
+    };
+    // Simulate 0.25 s while the object comes from 30 cm to 5 cm (state Opening throughout).
+    let (dt, steps) = (5e-4, 500);
+    let (mut q, mut qd) = (vec![0.05; n], vec![0.0; n]);
+    let (mut frames, mut blends) = (Vec::new(), Vec::new());
+    for s in 0..steps {
+        let distance = 0.3 - 0.25 * s as f64 / steps as f64;
+        let tau = controller
+            .torques(&hand, &q, &qd, &base, distance, false, true)
+            .unwrap();
+        assert_eq!(controller.state, GraspState::Opening);
+        frames.push(q.clone());
+        blends.push(GraspState::Opening.blend(distance, 0.0, &gains));
+        let qdd = forward_dynamics(&hand, &q, &qd, tau.as_slice(), &base).unwrap();
+        for k in 0..n {
+            qd[k] += dt * qdd[k];
+            q[k] += dt * qd[k];
+        }
+    }
+    assert!(q.iter().all(|x| x.is_finite()));
+    // Fit from the motion alone (the passive parameters are known).
+    let mut fitted = setpoints(n);
+    fitted.neutral = truth.neutral.clone();
+    fitted.limits = truth.limits.clone();
+    fit_active(&hand, &frames, dt, &blends, &base, &gains, &mut fitted).unwrap();
+    // The motion determines k_S·P_S + k_D·P_D for the setpoints it uses (0 and 1).
+    for j in 0..2 {
+        for k in 0..n {
+            let got = gains.k_s * fitted.positions[j][k] + gains.k_d * fitted.velocities[j][k];
+            let want = gains.k_s * truth.positions[j][k];
+            assert!(
+                (got - want).abs() < 0.02 * want.abs().max(1.0),
+                "setpoint {j} dof {k}: {got} vs {want}"
+            );
+        }
+    }
+    // Setpoints the motion never blends in stay zero.
+    assert!(fitted.positions[3].iter().all(|v| v.abs() < 1e-9));
+}
