@@ -46,6 +46,71 @@ pub enum Command {
     Grasp(Box<GraspArgs>),
     /// Grasp every built-in object with every built-in hand and write the results to a folder.
     Demo(DemoArgs),
+    /// Simulate a physically based hand driven by the grasp controller (Pollard & Zordan).
+    Simulate(SimulateArgs),
+    /// Fit a grasp controller to an example motion (.json or .bvh).
+    Fit(FitArgs),
+}
+
+/// `prehensile simulate`.
+#[derive(Debug, Args)]
+pub struct SimulateArgs {
+    /// drop, grasp, grip-sweep, handshake, open-close or shake.
+    #[arg(long, default_value = "grasp")]
+    pub scenario: String,
+    /// A built-in hand or a hand file (hinge and two-axis joints).
+    #[arg(long, default_value = "human")]
+    pub hand: String,
+    /// Objects (comma-separated built-in names or mesh files); `grasp` grasps each with the
+    /// controller fitted to the first.
+    #[arg(long, default_value = "sphere,box,cylinder")]
+    pub object: String,
+    /// Units, scale and repair of mesh files.
+    #[command(flatten)]
+    pub mesh_options: MeshOptions,
+    /// Grip strength α (Eq. 15–16).
+    #[arg(long, default_value_t = 0.3)]
+    pub alpha: f64,
+    /// Time step, seconds.
+    #[arg(long, default_value_t = 0.001)]
+    pub dt: f64,
+    /// Simulated seconds per case (default: the scenario's own).
+    #[arg(long)]
+    pub seconds: Option<f64>,
+    /// Friction coefficient.
+    #[arg(long, default_value_t = 1.0)]
+    pub friction: f64,
+    /// Object density, kg/m³.
+    #[arg(long, default_value_t = 500.0)]
+    pub density: f64,
+    /// The run report (JSON).
+    #[arg(long, default_value = "run.json")]
+    pub out: PathBuf,
+    /// Also write the first case as an animated glTF scene.
+    #[arg(long)]
+    pub glb: Option<PathBuf>,
+    /// Also write the first case's first hand as BVH.
+    #[arg(long)]
+    pub bvh: Option<PathBuf>,
+}
+
+/// `prehensile fit`.
+#[derive(Debug, Args)]
+pub struct FitArgs {
+    /// The example motion: `prehensile.motion/1` JSON, or BVH (distance = how far the root is
+    /// from where it is at the most closed frame).
+    #[arg(long)]
+    pub motion: Option<PathBuf>,
+    /// Without --motion: fit to the synthetic example of a grasp of this object found by the
+    /// search (written next to the controller as <out>.motion.json).
+    #[arg(long, default_value = "sphere")]
+    pub object: String,
+    /// A built-in hand or a hand file.
+    #[arg(long, default_value = "human")]
+    pub hand: String,
+    /// The controller file to write (TOML).
+    #[arg(long, default_value = "controller.toml")]
+    pub out: PathBuf,
 }
 
 /// How a mesh file is read: its unit, a scale, and an optional repair.

@@ -29,6 +29,8 @@ fn main() {
         args::Command::Hands(a) => commands::hands::run(&a),
         args::Command::Grasp(a) => commands::grasp::run(&a),
         args::Command::Demo(a) => commands::demo::run(&a),
+        args::Command::Simulate(a) => commands::simulate::run(&a),
+        args::Command::Fit(a) => commands::fit::run(&a),
     };
     match outcome {
         Ok(code) => std::process::exit(code),

@@ -63,9 +63,10 @@ impl Default for Gains {
 }
 
 /// States of the grasp state machine (Fig. 3).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum GraspState {
     /// Before a grasp: setpoint 0.
+    #[default]
     Neutral,
     /// Opening as the object comes within D2.
     Opening,
@@ -188,6 +189,73 @@ pub fn active_torque(
         .collect()
 }
 
+/// One degree of freedom's control law in implicit form: τ = stiffness·(target − θ) +
+/// damping·(target_velocity − θ̇). A physics engine can integrate it implicitly (as a joint
+/// motor), which stays stable at time steps where the explicit torque would not.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JointSpring {
+    /// N·m/rad.
+    pub stiffness: f64,
+    /// N·m·s/rad.
+    pub damping: f64,
+    /// rad.
+    pub target: f64,
+    /// rad/s.
+    pub target_velocity: f64,
+}
+
+impl JointSpring {
+    /// The torque at `q`, `qd`.
+    pub fn torque(&self, q: f64, qd: f64) -> f64 {
+        self.stiffness * (self.target - q) + self.damping * (self.target_velocity - qd)
+    }
+}
+
+/// τP + τA (Eq. 3 and 5) of every degree of freedom as one spring each: both laws are linear in θ
+/// and θ̇, so their sum is a single spring with the summed stiffness and the stiffness-weighted
+/// target. With `active` false only τP remains (the drop test).
+pub fn joint_springs(
+    inertia: &[f64],
+    q: &[f64],
+    s: &Setpoints,
+    blend: &[f64; 6],
+    g: &Gains,
+    active: bool,
+) -> Vec<JointSpring> {
+    (0..q.len())
+        .map(|k| {
+            let [lo, hi] = s.limits[k];
+            let limit = if q[k] < lo {
+                Some(lo)
+            } else if q[k] > hi {
+                Some(hi)
+            } else {
+                None
+            };
+            let mut stiffness = g.k_s;
+            let mut pull = g.k_s * s.neutral[k];
+            let mut damping = g.k_d;
+            let mut rate = 0.0;
+            if let Some(l) = limit {
+                stiffness += g.k_jl;
+                pull += g.k_jl * l;
+            }
+            if active {
+                stiffness += g.k_s;
+                pull += g.k_s * (0..6).map(|j| blend[j] * s.positions[j][k]).sum::<f64>();
+                damping += g.k_d;
+                rate += g.k_d * (0..6).map(|j| blend[j] * s.velocities[j][k]).sum::<f64>();
+            }
+            JointSpring {
+                stiffness: inertia[k] * stiffness,
+                damping: inertia[k] * damping,
+                target: pull / stiffness,
+                target_velocity: if damping > 0.0 { rate / damping } else { 0.0 },
+            }
+        })
+        .collect()
+}
+
 /// The controller: state, setpoints, gains and grip strength.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GraspController {
@@ -199,9 +267,41 @@ pub struct GraspController {
     pub alpha: f64,
     /// Current state.
     pub state: GraspState,
+    /// Whether τA acts (false: the passive hand of the drop test).
+    pub active: bool,
+    /// A setpoint chosen by hand (Fig. 7's interactive open/close), overriding the state
+    /// machine's blend while set.
+    pub manual_setpoint: Option<usize>,
+    /// Keep the hand open (B[1] = 1) through CLOSING, as the paper's grasps did (§7) "to keep
+    /// the hand from contacting the object too quickly"; it closes on GRIPPING.
+    pub open_while_closing: bool,
 }
 
 impl GraspController {
+    /// A controller in the NEUTRAL state with α = 0, active, following the state machine.
+    pub fn new(gains: Gains, setpoints: Setpoints) -> Self {
+        Self {
+            gains,
+            setpoints,
+            alpha: 0.0,
+            state: GraspState::Neutral,
+            active: true,
+            manual_setpoint: None,
+            open_while_closing: false,
+        }
+    }
+
+    /// Advances the state machine for the hand–object `distance` and returns the blend weights.
+    pub fn advance(&mut self, distance: f64, release: bool) -> [f64; 6] {
+        self.state = self.state.next(distance, release, &self.gains);
+        let only = |j: usize| std::array::from_fn(|i| if i == j.min(5) { 1.0 } else { 0.0 });
+        match self.manual_setpoint {
+            Some(j) => only(j),
+            None if self.open_while_closing && self.state == GraspState::Closing => only(1),
+            None => self.state.blend(distance, self.alpha, &self.gains),
+        }
+    }
+
     /// Advances the state machine and returns the joint torques τP + τA + τG + τARM for the hand
     /// at `q`, `qd`, its base moving as `base` (gravity included there), the object `distance`
     /// away. `compensate` turns the inverse-dynamics terms τG + τARM on.
@@ -219,13 +319,14 @@ impl GraspController {
         if !distance.is_finite() || !self.alpha.is_finite() {
             return Err(DynamicsError::NonFinite("distance or grip strength"));
         }
-        self.state = self.state.next(distance, release, &self.gains);
+        let blend = self.advance(distance, release);
         let inertia = outboard_inertia(hand, q)?;
-        let blend = self.state.blend(distance, self.alpha, &self.gains);
         let passive = passive_torque(&inertia, q, qd, &self.setpoints, &self.gains);
-        let active = active_torque(&inertia, q, qd, &self.setpoints, &blend, &self.gains);
-        let mut tau =
-            DVector::from_iterator(q.len(), passive.iter().zip(&active).map(|(p, a)| p + a));
+        let mut tau = DVector::from_column_slice(&passive);
+        if self.active {
+            let active = active_torque(&inertia, q, qd, &self.setpoints, &blend, &self.gains);
+            tau += DVector::from_column_slice(&active);
+        }
         if compensate {
             let zero = vec![0.0; q.len()];
             tau += inverse_dynamics_moving_base(hand, q, &zero, &zero, base)?;

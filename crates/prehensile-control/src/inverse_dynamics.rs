@@ -27,6 +27,9 @@ pub enum DynamicsError {
     /// A number is NaN or infinite.
     #[error("{0} contains a non-finite number")]
     NonFinite(&'static str),
+    /// A motion or controller file is malformed (what and where).
+    #[error("{0}")]
+    Motion(String),
 }
 
 /// One link of the dynamics chain. Every hinge bone is one link; a two-axis bone is two hinges

@@ -3,7 +3,8 @@
 //! Rigid-body dynamics of a hand model, engine-agnostic (state in, torques out): inverse
 //! dynamics, the joint-space mass matrix, the outboard inertia of every joint (the `I` of Pollard
 //! & Zordan's Eq. 3 and 5) and gravity torques; the controller's torque laws, state machine,
-//! blends and grip strength. Setpoint fitting and the simulation are not built yet.
+//! blends and grip strength; fitting the controller to an example motion, and its file format.
+//! The simulation lives in `prehensile-sim`.
 //!
 //! Conventions: the base is the hand's root bone, fixed; gravity is given in the root bone's
 //! frame; joint vectors follow [`prehensile_core::HandModel::dof_names`].
@@ -11,6 +12,8 @@
 
 mod active_fitting;
 mod controller;
+mod controller_fitting;
+mod example_motion;
 mod forward_dynamics;
 mod inverse_dynamics;
 mod mass_matrix;
@@ -18,8 +21,13 @@ mod passive_fitting;
 
 pub use active_fitting::fit_active;
 pub use controller::{
-    active_torque, passive_torque, Gains, GraspController, GraspState, Setpoints,
+    active_torque, joint_springs, passive_torque, Gains, GraspController, GraspState, JointSpring,
+    Setpoints,
 };
+pub use controller_fitting::{
+    fit_controller, ControllerFile, GainsRecord, SetpointRecord, CONTROLLER_SCHEMA, SETPOINT_NAMES,
+};
+pub use example_motion::{Motion, MOTION_SCHEMA};
 pub use forward_dynamics::forward_dynamics;
 pub use inverse_dynamics::{
     gravity_torques, inverse_dynamics, inverse_dynamics_moving_base, BaseMotion, DynamicsError,

@@ -124,12 +124,7 @@ fn the_controller_adds_compensation_by_inverse_dynamics() {
     s.neutral = q.clone();
     s.limits = vec![[-3.0, 3.0]; n];
     s.positions = std::array::from_fn(|_| q.clone());
-    let mut controller = GraspController {
-        gains: Gains::grasp(),
-        setpoints: s,
-        alpha: 0.0,
-        state: GraspState::Neutral,
-    };
+    let mut controller = GraspController::new(Gains::grasp(), s);
     // At the setpoints and at rest, all that is left is the compensation: gravity torques.
     let tau = controller
         .torques(
@@ -224,12 +219,8 @@ fn active_setpoints_fitted_from_a_simulated_motion_recover_the_controller() {
     truth.limits = vec![[-1.0, 1.6]; n];
     truth.positions[0] = vec![0.05; n];
     truth.positions[1] = (0..n).map(|k| 0.2 + 0.03 * k as f64).collect();
-    let mut controller = GraspController {
-        gains,
-        setpoints: truth.clone(),
-        alpha: 0.0,
-        state: GraspState::Opening,
-    };
+    let mut controller = GraspController::new(gains, truth.clone());
+    controller.state = GraspState::Opening;
     // Simulate 0.25 s while the object comes from 30 cm to 5 cm (state Opening throughout).
     let (dt, steps) = (5e-4, 500);
     let (mut q, mut qd) = (vec![0.05; n], vec![0.0; n]);
@@ -267,4 +258,88 @@ fn active_setpoints_fitted_from_a_simulated_motion_recover_the_controller() {
     }
     // Setpoints the motion never blends in stay zero.
     assert!(fitted.positions[3].iter().all(|v| v.abs() < 1e-9));
+}
+
+#[test]
+fn joint_springs_are_the_passive_plus_active_torque() {
+    let g = Gains::grasp();
+    let n = 4;
+    let mut s = setpoints(n);
+    s.velocities[2] = vec![0.3; n];
+    let inertia = [1e-4, 2e-5, 3e-6, 5e-7];
+    // Inside the range, below it and above it (limit springs act outside only).
+    let q = [0.5, -0.2, 1.3, 0.9];
+    let qd = [0.1, -2.0, 0.5, 0.0];
+    for (blend, active) in [
+        (GraspState::Closing.blend(0.02, 0.0, &g), true),
+        (GraspState::Gripping.blend(0.0, 0.4, &g), true),
+        (GraspState::Neutral.blend(1.0, 0.0, &g), false),
+    ] {
+        let springs = prehensile_control::joint_springs(&inertia, &q, &s, &blend, &g, active);
+        let passive = passive_torque(&inertia, &q, &qd, &s, &g);
+        let active_tau = active_torque(&inertia, &q, &qd, &s, &blend, &g);
+        for k in 0..n {
+            let expected = passive[k] + if active { active_tau[k] } else { 0.0 };
+            let got = springs[k].torque(q[k], qd[k]);
+            assert!(
+                (got - expected).abs() <= 1e-12 * expected.abs().max(1e-9),
+                "dof {k}: spring {got}, laws {expected}"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_manual_setpoint_overrides_the_state_machine() {
+    let mut c = GraspController::new(Gains::grasp(), setpoints(3));
+    assert_eq!(c.advance(0.175, false), [0.5, 0.5, 0.0, 0.0, 0.0, 0.0]);
+    c.manual_setpoint = Some(3);
+    assert_eq!(c.advance(0.0, false), [0.0, 0.0, 0.0, 1.0, 0.0, 0.0]);
+    // The state machine keeps running underneath.
+    assert_eq!(c.state, GraspState::Closing);
+}
+
+#[test]
+fn a_controller_fitted_to_a_synthetic_example_round_trips_through_its_file() {
+    use prehensile_control::{fit_controller, ControllerFile, Motion};
+    let hand = prehensile_formats::builtin_hand("robot3").unwrap();
+    let n = hand.dof_count();
+    let open = vec![0.0; n];
+    let closed: Vec<f64> = (0..n).map(|k| 0.6 + 0.05 * k as f64).collect();
+    let relaxed: Vec<f64> = closed.iter().map(|c| 0.3 * c).collect();
+    let g = Gains::grasp();
+    let motion = Motion::synthetic_grasp(hand.dof_names(), &relaxed, &open, &closed, &g);
+    let base = BaseMotion::at_rest(Vec3::new(0.0, 0.0, -9.81));
+    let c = fit_controller(&hand, &motion, g, true, &base).unwrap();
+    // Held still in GRIPPING, passive (toward neutral) and active (toward the grip setpoint's
+    // equilibrium θ_S + k_D/k_S θ̇_S) balance at their mean: that is the example's closed pose,
+    // within the dynamics the least squares absorbs.
+    for (k, target) in closed.iter().enumerate() {
+        let grip = c.setpoints.positions[2][k] + g.k_d / g.k_s * c.setpoints.velocities[2][k];
+        let rest = (grip + c.setpoints.neutral[k]) / 2.0;
+        assert!((rest - target).abs() < 0.15, "dof {k}: {rest} vs {target}");
+    }
+    let text = ControllerFile::new(&hand, &c).to_toml();
+    let back = ControllerFile::from_toml(&text, "test")
+        .unwrap()
+        .controller(&hand)
+        .unwrap();
+    assert_eq!(back.setpoints, c.setpoints);
+    assert!(back.open_while_closing);
+    // Bad files say what is wrong.
+    let broken = text.replace("name = \"grip\"", "name = \"squeeze\"");
+    let e = ControllerFile::from_toml(&broken, "t")
+        .unwrap()
+        .controller(&hand)
+        .unwrap_err();
+    assert!(e.to_string().contains("setpoints"), "{e}");
+    let other = prehensile_formats::builtin_hand("human").unwrap();
+    assert!(ControllerFile::from_toml(&text, "t")
+        .unwrap()
+        .controller(&other)
+        .is_err());
+    let mut bad = motion.clone();
+    bad.frames[5][0] = f64::NAN;
+    let e = fit_controller(&hand, &bad, g, true, &base).unwrap_err();
+    assert!(e.to_string().contains("frame 5"), "{e}");
 }

@@ -150,6 +150,38 @@ pub fn grasp_glb(
     keyframes: &[Keyframe],
     skin: Option<&SkinnedMesh>,
 ) -> Vec<u8> {
+    animated_glb(
+        Some(object),
+        &[],
+        hand,
+        keyframes,
+        skin,
+        "approach and close",
+    )
+}
+
+/// A GLB of a simulation run: the hand's keyframes and, with an object, its pose at every
+/// keyframe (`object_track`, one per keyframe) — the object moves with the run.
+pub fn simulation_glb(
+    object: Option<(&TriangleMesh, &[Transform])>,
+    hand: &HandModel,
+    keyframes: &[Keyframe],
+) -> Vec<u8> {
+    let (mesh, track) = match object {
+        Some((m, t)) => (Some(m), t),
+        None => (None, &[][..]),
+    };
+    animated_glb(mesh, track, hand, keyframes, None, "simulation")
+}
+
+fn animated_glb(
+    object: Option<&TriangleMesh>,
+    object_track: &[Transform],
+    hand: &HandModel,
+    keyframes: &[Keyframe],
+    skin: Option<&SkinnedMesh>,
+    animation_name: &str,
+) -> Vec<u8> {
     let rest = [Keyframe {
         time: 0.0,
         root: Transform::identity(),
@@ -165,9 +197,12 @@ pub fn grasp_glb(
         {"name": "object", "pbrMetallicRoughness": {"baseColorFactor": [0.75, 0.75, 0.78, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.8}},
         {"name": "hand", "pbrMetallicRoughness": {"baseColorFactor": [0.86, 0.55, 0.42, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.6}}
     ]);
-    let tris: Vec<[u32; 3]> = object.triangles.clone();
-    let mut meshes = vec![b.mesh(&object.vertices, &tris, 0)];
-    let mut nodes = vec![json!({"name": "object", "mesh": 0})];
+    let mut meshes = Vec::new();
+    let mut nodes = Vec::new();
+    if let Some(object) = object {
+        meshes.push(b.mesh(&object.vertices, &object.triangles, 0));
+        nodes.push(json!({"name": "object", "mesh": 0}));
+    }
     let first_bone = nodes.len();
     let rest_pose = |k: usize| -> Transform {
         let bone = &hand.bones()[k];
@@ -203,7 +238,7 @@ pub fn grasp_glb(
         }
         nodes.push(node);
     }
-    let mut scene_nodes = vec![0, first_bone];
+    let mut scene_nodes: Vec<usize> = (0..first_bone).chain([first_bone]).collect();
     let mut skins = Vec::new();
     if let Some(skin) = skin.filter(|s| !s.positions.is_empty()) {
         let p: Vec<f32> = skin
@@ -282,9 +317,23 @@ pub fn grasp_glb(
                 channels.push(json!({"sampler": samplers.len() - 1, "target": {"node": first_bone, "path": "translation"}}));
             }
         }
-        animations.push(
-            json!({"name": "approach and close", "samplers": samplers, "channels": channels}),
-        );
+        if object.is_some() && object_track.len() == keyframes.len() {
+            let (translations, rotations): (Vec<Vec<f64>>, Vec<Vec<f64>>) =
+                object_track.iter().map(trs).unzip();
+            for (path, values, kind, width) in [
+                ("translation", translations.concat(), "VEC3", 3),
+                ("rotation", rotations.concat(), "VEC4", 4),
+            ] {
+                let values: Vec<f32> = values.iter().map(|v| *v as f32).collect();
+                let output = b.floats(&values, kind, width, None, false);
+                samplers.push(json!({"input": input, "output": output, "interpolation": "LINEAR"}));
+                channels.push(
+                    json!({"sampler": samplers.len() - 1, "target": {"node": 0, "path": path}}),
+                );
+            }
+        }
+        animations
+            .push(json!({"name": animation_name, "samplers": samplers, "channels": channels}));
     }
     while b.bin.len() % 4 != 0 {
         b.bin.push(0);

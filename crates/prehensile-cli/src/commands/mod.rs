@@ -2,5 +2,7 @@
 
 pub mod check;
 pub mod demo;
+pub mod fit;
 pub mod grasp;
 pub mod hands;
+pub mod simulate;

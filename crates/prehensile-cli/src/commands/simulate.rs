@@ -1,0 +1,113 @@
+//! `prehensile simulate`: one of the paper's scenarios in the rapier world, with a progress bar,
+//! a JSON report and optional animations.
+
+use indicatif::{ProgressBar, ProgressStyle};
+use prehensile_sim::scenarios::{self, Options, Scenario};
+use prehensile_sim::Settings;
+
+use crate::args::SimulateArgs;
+use crate::{sources, CliError};
+
+/// Runs the command; exit code 0, or 1 when the run diverged.
+pub fn run(args: &SimulateArgs) -> Result<i32, CliError> {
+    let scenario = Scenario::from_name(&args.scenario).ok_or_else(|| {
+        CliError(format!(
+            "unknown scenario '{}'; choose one of {}",
+            args.scenario,
+            Scenario::NAMES.join(", ")
+        ))
+    })?;
+    let hand = sources::hand(&args.hand)?;
+    let objects = args
+        .object
+        .split(',')
+        .map(|spec| {
+            sources::object(
+                spec.trim(),
+                args.mesh_options.factor(),
+                args.mesh_options.weld,
+            )
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let options = Options {
+        hand,
+        objects,
+        alpha: args.alpha,
+        settings: Settings {
+            dt: args.dt,
+            friction: args.friction,
+            object_density: args.density,
+            ..Settings::default()
+        },
+        seconds: args.seconds,
+    };
+    let bar = ProgressBar::new(1000);
+    bar.set_style(
+        ProgressStyle::with_template("{msg:28} [{bar:30}] {percent:>3}%")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    let mut progress = |label: &str, fraction: f64| {
+        bar.set_message(label.to_string());
+        bar.set_position((fraction * 1000.0) as u64);
+    };
+    let (report, recording) =
+        scenarios::run(scenario, &options, &mut progress).map_err(CliError::from_display)?;
+    bar.finish_and_clear();
+    let json = serde_json::to_string_pretty(&report).map_err(CliError::from_display)?;
+    write(&args.out, json.as_bytes())?;
+    for case in &report.cases {
+        let held = case.held.map_or(String::new(), |h| format!(", held {h}"));
+        let slip = case
+            .object_slip_m
+            .map_or(String::new(), |s| format!(", slip {:.1} mm", s * 1e3));
+        let force = case
+            .mean_contact_force_n
+            .map_or(String::new(), |f| format!(", contact force {f:.2} N"));
+        println!(
+            "{}: finite {}{held}{slip}{force}, penetration {:.2} mm, {:.1}× real time",
+            case.label,
+            case.finite,
+            case.max_penetration_m * 1e3,
+            case.realtime_factor
+        );
+        for (name, value) in &case.metrics {
+            println!("    {name} = {value:.4}");
+        }
+        if let Some(d) = &case.diverged {
+            println!("    stopped: {d}");
+        }
+    }
+    println!("wrote {}", args.out.display());
+    if let Some((hand, frames)) = recording.hands.first() {
+        if let Some(path) = &args.glb {
+            let object = recording
+                .object
+                .as_ref()
+                .map(|(o, track)| (o.mesh(), &track[..]));
+            write(
+                path,
+                &prehensile_formats::simulation_glb(object, hand, frames),
+            )?;
+            println!("wrote {}", path.display());
+        }
+        if let Some(path) = &args.bvh {
+            let fps = 1.0 / options.settings.record_fps.recip();
+            write(
+                path,
+                prehensile_formats::write_bvh(hand, frames, fps).as_bytes(),
+            )?;
+            println!("wrote {}", path.display());
+        }
+    }
+    Ok(if report.finite { 0 } else { 1 })
+}
+
+fn write(path: &std::path::Path, bytes: &[u8]) -> Result<(), CliError> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| CliError(format!("cannot create {}: {e}", dir.display())))?;
+    }
+    std::fs::write(path, bytes)
+        .map_err(|e| CliError(format!("cannot write {}: {e}", path.display())))
+}

@@ -1,0 +1,313 @@
+//! A hand model as rapier rigid bodies: one dynamic body per bone with the bone's mass and
+//! inertia and its capsules as colliders, joined by impulse joints; the root (palm) is a
+//! kinematic body that follows the arm.
+//!
+//! Design (measured against the alternatives, see docs/PERFORMANCE.md): impulse joints rather
+//! than reduced-coordinate multibodies (several times faster in rapier 0.36, and multibodies
+//! panic on two-axis joints); every degree of freedom is a revolute joint whose motor carries
+//! the controller's τP + τA as an implicit spring ([`prehensile_control::joint_springs`]), so the
+//! stiff limit springs integrate stably at millisecond steps; τG + τARM, which are smooth, are
+//! applied as explicit torque pairs. A two-axis bone becomes two revolute joints in series
+//! through a small intermediate body (R = R(abduction)·R(flexion), as in the model).
+
+use prehensile_core::hand::Joint;
+use prehensile_core::math::{Rotation, Transform};
+use prehensile_core::HandModel;
+use rapier3d_f64::prelude::{
+    ColliderBuilder, ColliderHandle, GenericJointBuilder, Group, ImpulseJointHandle,
+    InteractionGroups, InteractionTestMode, JointAxesMask, JointAxis, MassProperties, Matrix,
+    MotorModel, PhysicsWorld, Pose, RigidBodyBuilder, RigidBodyHandle, Rotation as Quat, Vector,
+};
+
+use crate::convert;
+
+/// Mass of the intermediate body of a two-axis joint, as a fraction of its bone's mass. The
+/// dynamics model treats that link as massless; a rigid-body solver needs some mass, and 5%
+/// keeps the mass ratio along the chain mild.
+pub const INTERMEDIATE_MASS_FRACTION: f64 = 1.0;
+
+/// One controlled degree of freedom: a revolute joint between two bodies.
+#[derive(Debug, Clone, Copy)]
+struct DofJoint {
+    joint: ImpulseJointHandle,
+    parent: RigidBodyHandle,
+    child: RigidBodyHandle,
+    /// The joint axis in the child body's frame.
+    axis_in_child: Vector,
+}
+
+/// A hand in a rapier world.
+#[derive(Debug, Clone)]
+pub struct ArticulatedHand {
+    hand: HandModel,
+    /// The body of every bone (the root's is kinematic).
+    bones: Vec<RigidBodyHandle>,
+    /// The intermediate bodies of two-axis joints.
+    intermediates: Vec<RigidBodyHandle>,
+    /// One per degree of freedom, in [`HandModel::dof_names`] order.
+    dofs: Vec<DofJoint>,
+    colliders: Vec<ColliderHandle>,
+}
+
+/// Collision filtering: hands never collide with themselves; `group` is this hand's bit
+/// (objects and other hands collide with it).
+pub fn hand_groups(group: Group) -> InteractionGroups {
+    InteractionGroups::new(group, Group::ALL ^ group, InteractionTestMode::And)
+}
+
+impl ArticulatedHand {
+    /// Adds `hand` to the world with its root bone's parent frame at `root` and joint angles `q`
+    /// (one per degree of freedom), in collision group `group` with skin friction `friction`.
+    pub fn insert(
+        hand: &HandModel,
+        world: &mut PhysicsWorld,
+        root: &Transform,
+        q: &[f64],
+        group: Group,
+        friction: f64,
+    ) -> Self {
+        let mut rotations = vec![Rotation::identity(); hand.bones().len()];
+        for (k, bone) in hand.bones().iter().enumerate() {
+            rotations[k] = bone
+                .joint
+                .rotation(&q[bone.first_dof..bone.first_dof + bone.joint.dofs()]);
+        }
+        let mut world_frames = vec![Transform::identity(); hand.bones().len()];
+        prehensile_core::kinematics::forward_kinematics(hand, root, &rotations, &mut world_frames);
+
+        let mut bones = Vec::with_capacity(hand.bones().len());
+        let mut dofs = Vec::with_capacity(hand.dof_count());
+        let mut colliders = Vec::new();
+        let mut intermediates = Vec::new();
+        for (k, bone) in hand.bones().iter().enumerate() {
+            let builder = match bone.parent {
+                None => RigidBodyBuilder::kinematic_position_based(),
+                Some(_) => RigidBodyBuilder::dynamic(),
+            };
+            let mut builder = builder
+                .pose(convert::pose(&world_frames[k]))
+                .can_sleep(false);
+            if let Some(inertial) = &bone.inertial {
+                builder = builder.additional_mass_properties(mass_properties(
+                    inertial.mass,
+                    convert::point(&inertial.center_of_mass),
+                    &inertial.inertia,
+                ));
+            }
+            let body = world.bodies.insert(builder);
+            for capsule in hand.bone_capsules(k) {
+                let collider = ColliderBuilder::capsule_from_endpoints(
+                    convert::point(&capsule.a),
+                    convert::point(&capsule.b),
+                    capsule.radius,
+                )
+                .density(0.0)
+                .friction(friction)
+                .collision_groups(hand_groups(group));
+                colliders.push(world.colliders.insert_with_parent(
+                    collider,
+                    body,
+                    &mut world.bodies,
+                ));
+            }
+            bones.push(body);
+            let Some(parent) = bone.parent else { continue };
+            let parent_body = bones[parent];
+            let rest = convert::pose(&bone.rest);
+            match &bone.joint {
+                Joint::Fixed => {
+                    let joint = GenericJointBuilder::new(JointAxesMask::LOCKED_FIXED_AXES)
+                        .local_frame1(rest)
+                        .contacts_enabled(false);
+                    world.impulse_joints.insert(parent_body, body, joint, true);
+                }
+                Joint::Hinge(axis) => {
+                    let axis = convert::vector(&axis.axis);
+                    dofs.push(revolute(
+                        world,
+                        parent_body,
+                        rest,
+                        body,
+                        Pose::IDENTITY,
+                        axis,
+                    ));
+                }
+                Joint::TwoAxis { flexion, abduction } => {
+                    let outer = convert::vector(&abduction.axis);
+                    let inner = convert::vector(&flexion.axis);
+                    let b = q[bone.first_dof + 1];
+                    let frame = world_frames[parent]
+                        * bone.rest
+                        * Rotation::from_axis_angle(&abduction.axis, b);
+                    let mass = bone.inertial.map_or(1e-4, |i| i.mass) * INTERMEDIATE_MASS_FRACTION;
+                    // A small sphere's inertia, about the joint centre.
+                    let inertia = 0.4 * mass * 0.005f64.powi(2);
+                    let middle = world.bodies.insert(
+                        RigidBodyBuilder::dynamic()
+                            .pose(convert::pose(&frame))
+                            .can_sleep(false)
+                            .additional_mass_properties(MassProperties::new(
+                                Vector::ZERO,
+                                mass,
+                                Vector::splat(inertia),
+                            )),
+                    );
+                    intermediates.push(middle);
+                    // Degree of freedom 0 is flexion, 1 abduction.
+                    let flex = revolute(world, middle, Pose::IDENTITY, body, Pose::IDENTITY, inner);
+                    let abd = revolute(world, parent_body, rest, middle, Pose::IDENTITY, outer);
+                    dofs.push(flex);
+                    dofs.push(abd);
+                }
+                Joint::Ball { .. } => {
+                    unreachable!("ball joints are refused by ArticulatedHand::check")
+                }
+            }
+        }
+        Self {
+            hand: hand.clone(),
+            bones,
+            intermediates,
+            dofs,
+            colliders,
+        }
+    }
+
+    /// The hand model.
+    pub fn model(&self) -> &HandModel {
+        &self.hand
+    }
+
+    /// The root (palm) body.
+    pub fn root_body(&self) -> RigidBodyHandle {
+        self.bones[0]
+    }
+
+    /// Every bone's body.
+    pub fn bone_bodies(&self) -> &[RigidBodyHandle] {
+        &self.bones
+    }
+
+    /// Every capsule collider of the hand.
+    pub fn colliders(&self) -> &[ColliderHandle] {
+        &self.colliders
+    }
+
+    /// Joint angles and rates of every degree of freedom, read from the bodies.
+    pub fn state(&self, world: &PhysicsWorld, q: &mut [f64], qd: &mut [f64]) {
+        let frame = |h: RigidBodyHandle| convert::transform(world.bodies[h].position());
+        for (k, bone) in self.hand.bones().iter().enumerate() {
+            let Some(parent) = bone.parent else { continue };
+            let n = bone.joint.dofs();
+            if n == 0 {
+                continue;
+            }
+            let relative = (frame(self.bones[parent]) * bone.rest).inverse() * frame(self.bones[k]);
+            bone.joint.angles(
+                &relative.rotation,
+                &mut q[bone.first_dof..bone.first_dof + n],
+            );
+        }
+        for (k, dof) in self.dofs.iter().enumerate() {
+            let child = &world.bodies[dof.child];
+            let parent = &world.bodies[dof.parent];
+            let axis = *child.rotation() * dof.axis_in_child;
+            qd[k] = (child.angvel() - parent.angvel()).dot(axis);
+        }
+    }
+
+    /// Sets every joint's motor to its spring (stiffness, damping, target) — the implicit
+    /// τP + τA — and applies the explicit torques `tau` (τG + τARM) as equal and opposite pairs.
+    pub fn drive(
+        &self,
+        world: &mut PhysicsWorld,
+        springs: &[prehensile_control::JointSpring],
+        tau: &[f64],
+    ) {
+        for body in self.bones.iter().chain(&self.intermediates) {
+            if let Some(b) = world.bodies.get_mut(*body) {
+                b.reset_torques(false);
+            }
+        }
+        for (k, dof) in self.dofs.iter().enumerate() {
+            let s = &springs[k];
+            if let Some(joint) = world.impulse_joints.get_mut(dof.joint, false) {
+                joint.data.set_motor(
+                    JointAxis::AngX,
+                    s.target,
+                    s.target_velocity,
+                    s.stiffness,
+                    s.damping,
+                );
+            }
+            let axis = *world.bodies[dof.child].rotation() * dof.axis_in_child;
+            world.bodies[dof.child].add_torque(axis * tau[k], false);
+            world.bodies[dof.parent].add_torque(-axis * tau[k], false);
+        }
+    }
+
+    /// Moves the root toward `root` by the next step (kinematic: the arm is prescribed).
+    pub fn move_root(&self, world: &mut PhysicsWorld, root: &Transform) {
+        let palm = *root * self.hand.bones()[0].rest;
+        world.bodies[self.bones[0]].set_next_kinematic_position(convert::pose(&palm));
+    }
+}
+
+/// A revolute joint turning `axis` (given in the child's frame, which at zero angle is
+/// `frame1` in the parent's) with a force-based motor.
+fn revolute(
+    world: &mut PhysicsWorld,
+    parent: RigidBodyHandle,
+    frame1: Pose,
+    child: RigidBodyHandle,
+    frame2: Pose,
+    axis: Vector,
+) -> DofJoint {
+    let align = Pose::from_rotation(Quat::from_rotation_arc(Vector::X, axis.normalize()));
+    let joint = GenericJointBuilder::new(JointAxesMask::LOCKED_REVOLUTE_AXES)
+        .local_frame1(frame1 * align)
+        .local_frame2(frame2 * align)
+        .motor_model(JointAxis::AngX, MotorModel::ForceBased)
+        .contacts_enabled(false);
+    DofJoint {
+        joint: world.impulse_joints.insert(parent, child, joint, true),
+        parent,
+        child,
+        axis_in_child: frame2.rotation * axis,
+    }
+}
+
+/// Mass properties with a full inertia tensor about the centre of mass.
+fn mass_properties(mass: f64, com: Vector, inertia: &nalgebra::Matrix3<f64>) -> MassProperties {
+    let m = Matrix::from_cols_array(&[
+        inertia[(0, 0)],
+        inertia[(1, 0)],
+        inertia[(2, 0)],
+        inertia[(0, 1)],
+        inertia[(1, 1)],
+        inertia[(2, 1)],
+        inertia[(0, 2)],
+        inertia[(1, 2)],
+        inertia[(2, 2)],
+    ]);
+    MassProperties::with_inertia_matrix(com, mass, m)
+}
+
+/// Why a hand cannot be simulated.
+pub fn check_hand(hand: &HandModel) -> Result<(), crate::SimError> {
+    for bone in hand.bones() {
+        if matches!(bone.joint, Joint::Ball { .. }) {
+            return Err(crate::SimError::Hand(format!(
+                "bone '{}' has a ball joint; the simulation and dynamics handle hinge and two-axis joints",
+                bone.name
+            )));
+        }
+        if bone.parent.is_some() && bone.joint.dofs() > 0 && bone.inertial.is_none() {
+            return Err(crate::SimError::Hand(format!(
+                "bone '{}' moves but has no mass; give it an inertial",
+                bone.name
+            )));
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,208 @@
+//! From a grasp pose found by the search to a simulated grasp: the poses of the example motion
+//! (relaxed, open, closed), a controller fitted to that example, and the arm's path (approach
+//! along the grasp's approach direction, hold, lift, release, retreat).
+
+use prehensile_control::{fit_controller, BaseMotion, Gains, GraspController, Motion};
+use prehensile_core::math::{Point3, Transform, Vec3};
+use prehensile_core::search::translate_to_free::hand_root;
+use prehensile_core::search::{GraspPlanner, SearchParams};
+use prehensile_core::{HandModel, ObjectModel, Workspace};
+
+use crate::arm_trajectory::{ArmTrajectory, Waypoint};
+use crate::SimError;
+
+/// A grasp found by the search, as the simulation needs it.
+#[derive(Debug, Clone)]
+pub struct PlannedGrasp {
+    /// The hand's root placement in the grasp, object frame.
+    pub root: Transform,
+    /// Direction the hand approaches along (unit, object frame).
+    pub approach: Vec3,
+    /// Joint angles of the movement's start (the open hand).
+    pub open: Vec<f64>,
+    /// Joint angles of the grasp (fingers at the object).
+    pub closed: Vec<f64>,
+    /// Fingers touching in the found pose.
+    pub fingers_touching: usize,
+}
+
+/// Searches a power grasp (or the hand's first movement) of `object` from the default shoulder
+/// (35 cm behind, 20 cm aside and 35 cm above the centre of mass, z up).
+pub fn plan_grasp(hand: &HandModel, object: &ObjectModel) -> Result<PlannedGrasp, SimError> {
+    let movement = hand
+        .movement("power")
+        .or_else(|| hand.movements().first())
+        .ok_or_else(|| SimError::Hand(format!("hand '{}' has no movement", hand.name())))?;
+    let hook = object.center_of_mass();
+    let shoulder = hook + Vec3::new(-0.35, -0.2, 0.35);
+    let mut planner = GraspPlanner::new(hand, object, movement, shoulder, SearchParams::default())
+        .map_err(|e| SimError::Object(e.to_string()))?;
+    planner.run_to_end();
+    let best = planner.best().cloned().ok_or_else(|| {
+        SimError::Object(format!(
+            "no valid {} grasp of '{}' was found for hand '{}'",
+            movement.name(),
+            object.name(),
+            hand.name()
+        ))
+    })?;
+    let mut ws = Workspace::new(hand);
+    let found = planner.pose(&best, &mut ws);
+    let hook_frame = Transform::from_parts(hook.coords.into(), found.rotation);
+    let root = hand_root(&hook_frame, movement, found.offset);
+    Ok(PlannedGrasp {
+        root,
+        approach: found.rotation * Vec3::y(),
+        open: joint_angles(hand, movement.start_rotations()),
+        closed: joint_angles(hand, &ws.rotations),
+        fingers_touching: found.fingers_touching,
+    })
+}
+
+impl PlannedGrasp {
+    /// The relaxed pose of the example: 30% of the way from open to closed.
+    pub fn relaxed(&self) -> Vec<f64> {
+        self.open
+            .iter()
+            .zip(&self.closed)
+            .map(|(o, c)| o + 0.3 * (c - o))
+            .collect()
+    }
+
+    /// The synthetic example motion of this grasp.
+    pub fn example(&self, hand: &HandModel, gains: &Gains) -> Motion {
+        Motion::synthetic_grasp(
+            hand.dof_names(),
+            &self.relaxed(),
+            &self.open,
+            &self.closed,
+            gains,
+        )
+    }
+
+    /// A controller fitted to [`PlannedGrasp::example`], held open through CLOSING (§7).
+    pub fn controller(
+        &self,
+        hand: &HandModel,
+        gravity: &Vec3,
+    ) -> Result<GraspController, SimError> {
+        let gains = Gains::grasp();
+        let palm = self.root * hand.bones()[0].rest;
+        let base = BaseMotion::at_rest(palm.rotation.inverse() * gravity);
+        fit_controller(hand, &self.example(hand, &gains), gains, true, &base)
+            .map_err(|e| SimError::Settings(format!("fitting the controller: {e}")))
+    }
+
+    /// The root's place in the grasp, object frame.
+    pub fn place(&self) -> Point3 {
+        self.root.translation.vector.into()
+    }
+}
+
+/// Times of the grasp scenario's phases, seconds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GraspTimes {
+    /// Arrival at the grasp.
+    pub arrive: f64,
+    /// The object is let go (the hand has closed).
+    pub let_go: f64,
+    /// Lift starts.
+    pub lift: f64,
+    /// Lift ends; holding.
+    pub lifted: f64,
+    /// End of the hold: held and slip are measured here; release is commanded.
+    pub release: f64,
+    /// End of the retreat.
+    pub end: f64,
+}
+
+impl Default for GraspTimes {
+    fn default() -> Self {
+        Self {
+            arrive: 1.2,
+            let_go: 1.8,
+            lift: 2.0,
+            lifted: 3.0,
+            release: 3.5,
+            end: 4.5,
+        }
+    }
+}
+
+/// Height of the lift, metres.
+pub const LIFT: f64 = 0.10;
+/// How far back the approach starts, metres.
+pub const APPROACH: f64 = 0.40;
+
+/// The arm: approach from [`APPROACH`] back to the grasp, hold, lift by [`LIFT`] (+z),
+/// hold, then retreat along the approach direction.
+pub fn grasp_arm(
+    grasp: &PlannedGrasp,
+    object_pose: &Transform,
+    times: &GraspTimes,
+) -> ArmTrajectory {
+    let at = |back: f64, up: f64| {
+        let mut root = *object_pose * grasp.root;
+        root.translation.vector +=
+            object_pose.rotation * (-grasp.approach * back) + Vec3::new(0.0, 0.0, up);
+        root
+    };
+    ArmTrajectory::new(vec![
+        Waypoint {
+            time: 0.0,
+            root: at(APPROACH, 0.0),
+        },
+        Waypoint {
+            time: times.arrive,
+            root: at(0.0, 0.0),
+        },
+        Waypoint {
+            time: times.lift,
+            root: at(0.0, 0.0),
+        },
+        Waypoint {
+            time: times.lifted,
+            root: at(0.0, LIFT),
+        },
+        Waypoint {
+            time: times.release + 0.2,
+            root: at(0.0, LIFT),
+        },
+        Waypoint {
+            time: times.end,
+            root: at(APPROACH, LIFT),
+        },
+    ])
+}
+
+impl PlannedGrasp {
+    /// Poses without an object: open = the movement's start, closed = 70% of its closing; the
+    /// root at the origin. For scenarios without an object (drop, shake, handshake).
+    pub fn without_object(hand: &HandModel) -> Result<Self, SimError> {
+        let movement = hand
+            .movement("power")
+            .or_else(|| hand.movements().first())
+            .ok_or_else(|| SimError::Hand(format!("hand '{}' has no movement", hand.name())))?;
+        let rotations: Vec<_> = (0..hand.bones().len())
+            .map(|b| movement.rotation_at(b, 0.7))
+            .collect();
+        Ok(Self {
+            root: Transform::identity(),
+            approach: Vec3::y(),
+            open: joint_angles(hand, movement.start_rotations()),
+            closed: joint_angles(hand, &rotations),
+            fingers_touching: 0,
+        })
+    }
+}
+
+/// Joint angles (one per degree of freedom) of per-bone joint rotations.
+fn joint_angles(hand: &HandModel, rotations: &[prehensile_core::math::Rotation]) -> Vec<f64> {
+    let mut q = vec![0.0; hand.dof_count()];
+    for (k, bone) in hand.bones().iter().enumerate() {
+        let n = bone.joint.dofs();
+        bone.joint
+            .angles(&rotations[k], &mut q[bone.first_dof..bone.first_dof + n]);
+    }
+    q
+}

@@ -1,0 +1,38 @@
+//! Grip strength (§6, Eq. 15–16): the same grasp at α = 0, 0.1, …, 0.5. The grip setpoint moves
+//! further along the closing line as α grows, so the contact force should grow and the slip
+//! shrink.
+
+use super::grasp::{example_controller, grasp_case};
+use super::{CaseReport, Options, Recording, Scenario};
+use crate::SimError;
+
+/// The swept grip strengths.
+pub const ALPHAS: [f64; 6] = [0.0, 0.1, 0.2, 0.3, 0.4, 0.5];
+
+pub(crate) fn run(
+    options: &Options,
+    progress: &mut dyn FnMut(&str, f64),
+    add: &mut dyn FnMut((CaseReport, Recording)),
+) -> Result<(), SimError> {
+    let (mut controller, grasp) = example_controller(options)?;
+    let seconds = options
+        .seconds
+        .unwrap_or(Scenario::GripSweep.default_seconds());
+    for alpha in ALPHAS {
+        controller.alpha = alpha;
+        let (mut report, rec) = grasp_case(
+            &options.hand,
+            &options.objects[0],
+            &grasp,
+            &controller,
+            options.settings,
+            (super::GraspTimes::default(), seconds),
+            Vec::new(),
+            format!("alpha {alpha:.1}"),
+            progress,
+        )?;
+        report.metrics.insert("alpha".into(), alpha);
+        add((report, rec));
+    }
+    Ok(())
+}

@@ -1,0 +1,286 @@
+//! The paper's experiments as runnable scenarios, each reporting its metrics: the drop test
+//! (Fig. 2), grasps of several shapes from one example (Fig. 6), the grip-strength sweep (§6),
+//! a handshake (Fig. 5), interactive open/close (Fig. 7) and arm shaking with and without τARM.
+
+mod drop_test;
+mod grasp;
+mod grasp_plan;
+mod grip_sweep;
+mod handshake;
+mod open_close;
+mod shake;
+
+use std::time::Instant;
+
+use prehensile_core::animation::Keyframe;
+use prehensile_core::math::Transform;
+use prehensile_core::{HandModel, ObjectModel};
+use serde::Serialize;
+
+use crate::simulation::{Settings, Simulation, StateChange};
+use crate::SimError;
+
+pub use grasp_plan::{grasp_arm, plan_grasp, GraspTimes, PlannedGrasp, APPROACH, LIFT};
+
+/// Schema name of run reports.
+pub const RUN_SCHEMA: &str = "prehensile.run/1";
+
+/// The scenarios.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Scenario {
+    /// The passive hand under gravity, with and without joint-limit springs (Fig. 2).
+    Drop,
+    /// One controller, fitted to one example grasp, grasping and lifting several objects.
+    Grasp,
+    /// Grip strength α from 0 to 0.5: contact force and slip.
+    GripSweep,
+    /// Two hands, each with its own controller.
+    Handshake,
+    /// Holding an object while switching between the open and grip setpoints.
+    OpenClose,
+    /// Shaking the arm with and without arm-motion compensation.
+    Shake,
+}
+
+impl Scenario {
+    /// Every scenario's command-line name.
+    pub const NAMES: [&'static str; 6] = [
+        "drop",
+        "grasp",
+        "grip-sweep",
+        "handshake",
+        "open-close",
+        "shake",
+    ];
+
+    /// The scenario of a command-line name.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Some(match name {
+            "drop" => Self::Drop,
+            "grasp" => Self::Grasp,
+            "grip-sweep" => Self::GripSweep,
+            "handshake" => Self::Handshake,
+            "open-close" => Self::OpenClose,
+            "shake" => Self::Shake,
+            _ => return None,
+        })
+    }
+
+    /// The command-line name.
+    pub fn name(self) -> &'static str {
+        Self::NAMES[self as usize]
+    }
+
+    /// Default simulated seconds per case.
+    pub fn default_seconds(self) -> f64 {
+        match self {
+            Self::Drop => 1.5,
+            Self::Grasp | Self::GripSweep => GraspTimes::default().end,
+            Self::Handshake => 3.5,
+            Self::OpenClose => 5.8,
+            Self::Shake => 2.5,
+        }
+    }
+}
+
+/// What to run.
+#[derive(Debug, Clone)]
+pub struct Options {
+    /// The hand.
+    pub hand: HandModel,
+    /// The objects (the first for single-object scenarios; `grasp` runs each).
+    pub objects: Vec<ObjectModel>,
+    /// Grip strength α (`grip-sweep` sweeps its own).
+    pub alpha: f64,
+    /// World settings (time step, friction, …).
+    pub settings: Settings,
+    /// Simulated seconds per case (default: the scenario's).
+    pub seconds: Option<f64>,
+}
+
+/// One run's outcome.
+#[derive(Debug, Clone, Serialize)]
+pub struct CaseReport {
+    /// What this case is (object, α, with/without …).
+    pub label: String,
+    /// No NaN or infinity anywhere in the run (false when it diverged).
+    pub finite: bool,
+    /// The object rose with the hand and was not dropped (grasping cases only).
+    pub held: Option<bool>,
+    /// How far the object moved in the hand between let-go and the end of the hold, metres.
+    pub object_slip_m: Option<f64>,
+    /// Deepest penetration between hand and object (or hands), metres.
+    pub max_penetration_m: f64,
+    /// Mean total contact force during the hold, newtons.
+    pub mean_contact_force_n: Option<f64>,
+    /// Simulated seconds per wall-clock second.
+    pub realtime_factor: f64,
+    /// Steps taken.
+    pub steps: u64,
+    /// Why the run stopped early: divergence, with joint and time.
+    pub diverged: Option<String>,
+    /// The state machines' changes.
+    pub timeline: Vec<StateChange>,
+    /// Scenario-specific numbers (named with their unit).
+    pub metrics: std::collections::BTreeMap<String, f64>,
+}
+
+/// A scenario's report.
+#[derive(Debug, Clone, Serialize)]
+pub struct RunReport {
+    /// Always [`RUN_SCHEMA`].
+    pub schema: &'static str,
+    /// Scenario name.
+    pub scenario: &'static str,
+    /// Hand name.
+    pub hand: String,
+    /// Time step, seconds.
+    pub dt: f64,
+    /// Every case finite.
+    pub finite: bool,
+    /// Every grasping case held (absent for scenarios without an object).
+    pub held: Option<bool>,
+    /// Largest slip over the cases, metres.
+    pub object_slip_m: Option<f64>,
+    /// Deepest penetration over the cases, metres.
+    pub max_penetration_m: f64,
+    /// Total simulated seconds over total wall seconds.
+    pub realtime_factor: f64,
+    /// The cases.
+    pub cases: Vec<CaseReport>,
+}
+
+/// An animation of one case: each hand's keyframes and the object's poses.
+#[derive(Debug, Clone, Default)]
+pub struct Recording {
+    /// Per hand: its model and keyframes.
+    pub hands: Vec<(HandModel, Vec<Keyframe>)>,
+    /// The object and its poses at the same times, if there is one.
+    pub object: Option<(ObjectModel, Vec<Transform>)>,
+}
+
+/// Runs a scenario; returns the report and the first case's recording.
+pub fn run(
+    scenario: Scenario,
+    options: &Options,
+    progress: &mut dyn FnMut(&str, f64),
+) -> Result<(RunReport, Recording), SimError> {
+    options.settings.check()?;
+    if !(options.alpha.is_finite() && (0.0..=2.0).contains(&options.alpha)) {
+        return Err(SimError::Settings(format!(
+            "grip strength α {} must be in [0, 2] (the paper used 0 to 0.5)",
+            options.alpha
+        )));
+    }
+    if let Some(s) = options.seconds {
+        if !(s.is_finite() && s > 0.0 && s <= 600.0) {
+            return Err(SimError::Settings(format!(
+                "{s} simulated seconds: give more than 0 and at most 600"
+            )));
+        }
+    }
+    let mut cases = Vec::new();
+    let mut recording = Recording::default();
+    let mut add = |case: (CaseReport, Recording)| {
+        if cases.is_empty() {
+            recording = case.1;
+        }
+        cases.push(case.0);
+    };
+    match scenario {
+        Scenario::Drop => drop_test::run(options, progress, &mut add)?,
+        Scenario::Grasp => grasp::run(options, progress, &mut add)?,
+        Scenario::GripSweep => grip_sweep::run(options, progress, &mut add)?,
+        Scenario::Handshake => handshake::run(options, progress, &mut add)?,
+        Scenario::OpenClose => open_close::run(options, progress, &mut add)?,
+        Scenario::Shake => shake::run(options, progress, &mut add)?,
+    }
+    let simulated: f64 = cases
+        .iter()
+        .map(|c| c.steps as f64 * options.settings.dt)
+        .sum();
+    let wall: f64 = cases
+        .iter()
+        .map(|c| c.steps as f64 * options.settings.dt / c.realtime_factor.max(1e-12))
+        .sum();
+    let helds: Vec<bool> = cases.iter().filter_map(|c| c.held).collect();
+    Ok((
+        RunReport {
+            schema: RUN_SCHEMA,
+            scenario: scenario.name(),
+            hand: options.hand.name().to_string(),
+            dt: options.settings.dt,
+            finite: cases.iter().all(|c| c.finite),
+            held: (!helds.is_empty()).then(|| helds.iter().all(|h| *h)),
+            object_slip_m: cases
+                .iter()
+                .filter_map(|c| c.object_slip_m)
+                .reduce(f64::max),
+            max_penetration_m: cases
+                .iter()
+                .map(|c| c.max_penetration_m)
+                .fold(0.0, f64::max),
+            realtime_factor: if wall > 0.0 { simulated / wall } else { 0.0 },
+            cases,
+        },
+        recording,
+    ))
+}
+
+/// Steps `sim` until `seconds`, calling `each` after every step; stops early on divergence
+/// (reported in the case, never as NaN). Returns the wall seconds and the divergence.
+pub(crate) fn step_until(
+    sim: &mut Simulation,
+    seconds: f64,
+    label: &str,
+    progress: &mut dyn FnMut(&str, f64),
+    each: &mut dyn FnMut(&mut Simulation),
+) -> (f64, Option<String>) {
+    let began = Instant::now();
+    let total = (seconds / sim.settings().dt).round() as u64;
+    let mut diverged = None;
+    for k in 0..total {
+        if let Err(e) = sim.step() {
+            diverged = Some(e.to_string());
+            break;
+        }
+        each(sim);
+        if k % 500 == 0 {
+            progress(label, k as f64 / total as f64);
+        }
+    }
+    (began.elapsed().as_secs_f64(), diverged)
+}
+
+/// The common fields of a case.
+pub(crate) fn case(
+    sim: &Simulation,
+    label: String,
+    wall: f64,
+    diverged: Option<String>,
+) -> CaseReport {
+    let simulated = sim.steps() as f64 * sim.settings().dt;
+    CaseReport {
+        label,
+        finite: diverged.is_none(),
+        held: None,
+        object_slip_m: None,
+        max_penetration_m: sim.max_penetration(),
+        mean_contact_force_n: None,
+        realtime_factor: if wall > 0.0 { simulated / wall } else { 0.0 },
+        steps: sim.steps(),
+        diverged,
+        timeline: sim.timeline().to_vec(),
+        metrics: Default::default(),
+    }
+}
+
+/// The recording of every hand and the object of `sim`.
+pub(crate) fn recording(sim: &Simulation, hands: usize, object: Option<&ObjectModel>) -> Recording {
+    Recording {
+        hands: (0..hands)
+            .map(|i| (sim.hand_model(i).clone(), sim.recording(i).0.to_vec()))
+            .collect(),
+        object: object.map(|o| (o.clone(), sim.recording(0).1.to_vec())),
+    }
+}

@@ -1,0 +1,531 @@
+//! A simulation: hands, each driven by its own grasp controller along a prescribed arm
+//! trajectory, and at most one object, in a rapier world with gravity and friction. Every step
+//! reads each hand's joint state, advances its state machine, sets its joint springs (τP + τA)
+//! and compensation torques (τG + τARM), steps the world, and checks that nothing diverged.
+
+use prehensile_control::{
+    gravity_torques, inverse_dynamics_moving_base, joint_springs, outboard_inertia,
+    GraspController, GraspState,
+};
+use prehensile_core::animation::Keyframe;
+use prehensile_core::math::{Point3, Rotation, Transform, Vec3};
+use prehensile_core::{HandModel, ObjectModel};
+use rapier3d_f64::prelude::{Group, PhysicsWorld};
+
+use crate::arm_trajectory::ArmTrajectory;
+use crate::articulated_hand::{check_hand, ArticulatedHand};
+use crate::object_body::ObjectBody;
+use crate::{convert, SimError};
+
+/// World settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Settings {
+    /// Time step, seconds.
+    pub dt: f64,
+    /// Gravity, world, m/s² (default 9.81 down −z).
+    pub gravity: Vec3,
+    /// Friction coefficient of skin and objects (combined by rapier as their mean).
+    pub friction: f64,
+    /// Object density, kg/m³.
+    pub object_density: f64,
+    /// Solver iterations per step.
+    pub solver_iterations: usize,
+    /// Frames per second of the recording (for animation export).
+    pub record_fps: f64,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self {
+            dt: 1e-3,
+            gravity: Vec3::new(0.0, 0.0, -9.81),
+            friction: 1.0,
+            object_density: 500.0,
+            solver_iterations: 4,
+            record_fps: 60.0,
+        }
+    }
+}
+
+impl Settings {
+    /// Refuses settings that cannot give a meaningful run.
+    pub fn check(&self) -> Result<(), SimError> {
+        let bad = |what: &str, hint: &str| Err(SimError::Settings(format!("{what}: {hint}")));
+        if !(self.dt.is_finite() && self.dt > 0.0) {
+            return bad(
+                &format!("time step {}", self.dt),
+                "give a positive step, e.g. 0.001",
+            );
+        }
+        if self.dt > 0.01 {
+            return bad(
+                &format!("time step {} s is too large", self.dt),
+                "fingers need steps of at most 10 ms (0.2–1 ms is typical)",
+            );
+        }
+        if !self.gravity.iter().all(|g| g.is_finite()) {
+            return bad("gravity", "must be finite");
+        }
+        if !(self.friction.is_finite() && self.friction >= 0.0) {
+            return bad(&format!("friction {}", self.friction), "must be ≥ 0");
+        }
+        if !(self.object_density.is_finite() && self.object_density > 0.0) {
+            return bad(&format!("density {}", self.object_density), "must be > 0");
+        }
+        if self.solver_iterations == 0 || self.solver_iterations > 100 {
+            return bad("solver iterations", "give 1 to 100");
+        }
+        Ok(())
+    }
+}
+
+/// What a hand's controller measures its distance to (the paper's "distance from hand to
+/// object", which drives the state machine).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum DistanceTo {
+    /// Always this far (no object: the state machine stays where the distance puts it).
+    Constant(f64),
+    /// The distance of the root's origin from this point in the object's frame (the world's
+    /// without an object): the root's place in the grasp. The hand reaches the object
+    /// (distance 0, D0) when the arm has brought it to its grasp; the place moves with the
+    /// object, so a held object stays at distance ≈ 0 and a dropped one moves away.
+    GraspPlace(Point3),
+    /// The distance between this hand's root origin and another hand's, minus `contact` (the
+    /// root distance at which the hands meet).
+    OtherHand {
+        /// Index of the other hand.
+        other: usize,
+        /// Metres.
+        contact: f64,
+    },
+}
+
+/// A hand to simulate.
+#[derive(Debug, Clone)]
+pub struct HandSetup {
+    /// The hand model (hinge and two-axis joints, with masses).
+    pub hand: HandModel,
+    /// Its controller.
+    pub controller: GraspController,
+    /// Where the arm takes it.
+    pub arm: ArmTrajectory,
+    /// Joint angles at the start.
+    pub start: Vec<f64>,
+    /// What the controller's distance is measured to.
+    pub distance: DistanceTo,
+    /// When the release command is given, seconds.
+    pub release_at: Option<f64>,
+    /// Gravity compensation τG.
+    pub compensate_gravity: bool,
+    /// Arm-motion compensation τARM.
+    pub compensate_arm: bool,
+    /// Manual setpoint changes `(time, setpoint or None for the state machine)` (Fig. 7).
+    pub manual: Vec<(f64, Option<usize>)>,
+}
+
+/// A change of a hand's controller state.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct StateChange {
+    /// Seconds.
+    pub time: f64,
+    /// Which hand.
+    pub hand: usize,
+    /// The new state.
+    pub state: String,
+    /// The distance that caused it, metres.
+    pub distance: f64,
+}
+
+/// Contact between a hand and the object or another hand during one step.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Contacts {
+    /// Total normal force, newtons.
+    pub force: f64,
+    /// Deepest penetration, metres (0 without contact).
+    pub penetration: f64,
+    /// Number of hand colliders touching.
+    pub touching: usize,
+}
+
+struct SimHand {
+    setup: HandSetup,
+    body: ArticulatedHand,
+    q: Vec<f64>,
+    qd: Vec<f64>,
+    palm_local: Transform,
+    frames: Vec<Keyframe>,
+}
+
+/// A running simulation.
+pub struct Simulation {
+    settings: Settings,
+    world: PhysicsWorld,
+    hands: Vec<SimHand>,
+    object: Option<ObjectBody>,
+    object_frames: Vec<Transform>,
+    time: f64,
+    steps: u64,
+    next_record: f64,
+    timeline: Vec<StateChange>,
+    max_penetration: f64,
+}
+
+impl Simulation {
+    /// An empty world.
+    pub fn new(settings: Settings) -> Result<Self, SimError> {
+        settings.check()?;
+        let mut world = PhysicsWorld::new();
+        world.gravity = convert::vector(&settings.gravity);
+        world.integration_parameters.dt = settings.dt;
+        // Hands are centimetre-sized: tolerances scale with the length unit.
+        world.integration_parameters.length_unit = 0.01;
+        world.integration_parameters.num_solver_iterations = settings.solver_iterations;
+        // Joint chains converge far better when joint impulses carry over between steps.
+        world.integration_parameters.warmstart_joints = true;
+        Ok(Self {
+            settings,
+            world,
+            hands: Vec::new(),
+            object: None,
+            object_frames: Vec::new(),
+            time: 0.0,
+            steps: 0,
+            next_record: 0.0,
+            timeline: Vec::new(),
+            max_penetration: 0.0,
+        })
+    }
+
+    /// Adds a hand; returns its index.
+    pub fn add_hand(&mut self, setup: HandSetup) -> Result<usize, SimError> {
+        let hand = &setup.hand;
+        check_hand(hand)?;
+        let n = hand.dof_count();
+        let s = &setup.controller.setpoints;
+        let lengths_ok = setup.start.len() == n
+            && s.neutral.len() == n
+            && s.limits.len() == n
+            && s.positions
+                .iter()
+                .chain(&s.velocities)
+                .all(|v| v.len() == n);
+        if !lengths_ok {
+            return Err(SimError::Settings(format!(
+                "hand '{}' has {n} degrees of freedom; the start pose and every setpoint need {n} values",
+                hand.name()
+            )));
+        }
+        let mut numbers = s
+            .positions
+            .iter()
+            .chain(&s.velocities)
+            .chain(std::iter::once(&s.neutral))
+            .chain(std::iter::once(&setup.start))
+            .flatten()
+            .chain(s.limits.iter().flatten());
+        if let Some(k) = numbers.position(|v| !v.is_finite()) {
+            return Err(SimError::Settings(format!(
+                "hand '{}': a setpoint, limit or start angle is not finite (value {k} of them)",
+                hand.name()
+            )));
+        }
+        if self.hands.len() >= 30 {
+            return Err(SimError::Settings("at most 30 hands".into()));
+        }
+        let group = Group::from_bits_truncate(Group::GROUP_2.bits() << self.hands.len());
+        let root = setup.arm.at(0.0);
+        let body = ArticulatedHand::insert(
+            hand,
+            &mut self.world,
+            &root,
+            &setup.start,
+            group,
+            self.settings.friction,
+        );
+        let palm_local = hand.bones()[0].rest;
+        self.hands.push(SimHand {
+            q: setup.start.clone(),
+            qd: vec![0.0; n],
+            setup,
+            body,
+            palm_local,
+            frames: Vec::new(),
+        });
+        Ok(self.hands.len() - 1)
+    }
+
+    /// Adds the object at `pose`; `fixed` holds it until [`Simulation::let_go_object`].
+    pub fn add_object(
+        &mut self,
+        object: &ObjectModel,
+        pose: &Transform,
+        fixed: bool,
+    ) -> Result<&ObjectBody, SimError> {
+        let body = ObjectBody::insert(
+            &mut self.world,
+            object,
+            pose,
+            self.settings.object_density,
+            self.settings.friction,
+            fixed,
+        )?;
+        Ok(self.object.insert(body))
+    }
+
+    /// Lets a fixed object go.
+    pub fn let_go_object(&mut self) {
+        if let Some(o) = &self.object {
+            o.let_go(&mut self.world);
+        }
+    }
+
+    /// Seconds simulated.
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Steps taken.
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    /// The settings.
+    pub fn settings(&self) -> &Settings {
+        &self.settings
+    }
+
+    /// Joint angles of hand `i`.
+    pub fn joint_angles(&self, i: usize) -> &[f64] {
+        &self.hands[i].q
+    }
+
+    /// The controller state of hand `i`.
+    pub fn state(&self, i: usize) -> GraspState {
+        self.hands[i].setup.controller.state
+    }
+
+    /// The controller of hand `i` (to change α or the manual setpoint while running).
+    pub fn controller_mut(&mut self, i: usize) -> &mut GraspController {
+        &mut self.hands[i].setup.controller
+    }
+
+    /// The object's pose, if there is one.
+    pub fn object_pose(&self) -> Option<Transform> {
+        self.object.as_ref().map(|o| o.pose(&self.world))
+    }
+
+    /// The object body.
+    pub fn object(&self) -> Option<&ObjectBody> {
+        self.object.as_ref()
+    }
+
+    /// Hand `i`'s root placement now.
+    pub fn root(&self, i: usize) -> Transform {
+        let palm = convert::transform(self.world.bodies[self.hands[i].body.root_body()].position());
+        palm * self.hands[i].palm_local.inverse()
+    }
+
+    /// The state machine's changes so far.
+    pub fn timeline(&self) -> &[StateChange] {
+        &self.timeline
+    }
+
+    /// Deepest penetration between any hand and the object or another hand so far, metres.
+    pub fn max_penetration(&self) -> f64 {
+        self.max_penetration
+    }
+
+    /// The recorded keyframes of hand `i` and of the object (at `record_fps`).
+    pub fn recording(&self, i: usize) -> (&[Keyframe], &[Transform]) {
+        (&self.hands[i].frames, &self.object_frames)
+    }
+
+    /// The hand model of hand `i`.
+    pub fn hand_model(&self, i: usize) -> &HandModel {
+        &self.hands[i].setup.hand
+    }
+
+    /// Contacts of hand `i` with everything outside it, this step.
+    pub fn contacts(&self, i: usize) -> Contacts {
+        let mut c = Contacts::default();
+        let dt = self.settings.dt;
+        for &collider in self.hands[i].body.colliders() {
+            let mut touching = false;
+            for pair in self.world.narrow_phase.contact_pairs_with(collider) {
+                for manifold in pair.manifolds() {
+                    for point in &manifold.points {
+                        if point.dist <= 0.0 {
+                            c.penetration = c.penetration.max(-point.dist);
+                        }
+                        if point.data.impulse > 0.0 {
+                            touching = true;
+                            c.force += point.data.impulse / dt;
+                        }
+                    }
+                }
+            }
+            c.touching += usize::from(touching);
+        }
+        c
+    }
+
+    fn distance(&self, i: usize) -> f64 {
+        let origin = |k: usize| self.root(k).translation.vector;
+        match self.hands[i].setup.distance {
+            DistanceTo::Constant(d) => d,
+            DistanceTo::GraspPlace(p) => {
+                let place = self.object_pose().map_or(p, |o| o * p);
+                let d = (origin(i) - place.coords).norm();
+                // The arm arrives exactly; rounding must not keep the state machine from D0.
+                if d < 1e-6 {
+                    0.0
+                } else {
+                    d
+                }
+            }
+            DistanceTo::OtherHand { other, contact } => {
+                ((origin(i) - origin(other)).norm() - contact).max(0.0)
+            }
+        }
+    }
+
+    /// Advances one step.
+    pub fn step(&mut self) -> Result<(), SimError> {
+        let dt = self.settings.dt;
+        let next = self.time + dt;
+        if self.time >= self.next_record - 1e-12 {
+            self.record();
+            self.next_record += 1.0 / self.settings.record_fps;
+        }
+        for i in 0..self.hands.len() {
+            let distance = self.distance(i);
+            let h = &mut self.hands[i];
+            h.body.state(&self.world, &mut h.q, &mut h.qd);
+            for &(at, choice) in &h.setup.manual {
+                if at <= self.time && at > self.time - dt {
+                    h.setup.controller.manual_setpoint = choice;
+                }
+            }
+            let release = h.setup.release_at.is_some_and(|t| self.time >= t);
+            let before = h.setup.controller.state;
+            let blend = h.setup.controller.advance(distance, release);
+            if h.setup.controller.state != before {
+                self.timeline.push(StateChange {
+                    time: self.time,
+                    hand: i,
+                    state: format!("{:?}", h.setup.controller.state),
+                    distance,
+                });
+            }
+            let c = &h.setup.controller;
+            let hand = &h.setup.hand;
+            let time = self.time;
+            let inertia = outboard_inertia(hand, &h.q).map_err(|e| diverged(time, i, e))?;
+            let springs = joint_springs(&inertia, &h.q, &c.setpoints, &blend, &c.gains, c.active);
+            let palm = h.setup.arm.at(self.time) * h.palm_local;
+            let gravity = palm.rotation.inverse() * self.settings.gravity;
+            let zero = vec![0.0; h.q.len()];
+            let tau = match (h.setup.compensate_gravity, h.setup.compensate_arm) {
+                (_, true) => {
+                    let mut base =
+                        h.setup
+                            .arm
+                            .base_motion(self.time, &h.palm_local, &self.settings.gravity);
+                    if !h.setup.compensate_gravity {
+                        base.linear_acceleration_minus_gravity += gravity;
+                    }
+                    inverse_dynamics_moving_base(hand, &h.q, &zero, &zero, &base)
+                }
+                (true, false) => gravity_torques(hand, &h.q, gravity),
+                (false, false) => Ok(nalgebra::DVector::zeros(h.q.len())),
+            }
+            .map_err(|e| diverged(time, i, e))?;
+            let h = &self.hands[i];
+            h.body.drive(&mut self.world, &springs, tau.as_slice());
+            h.body.move_root(&mut self.world, &h.setup.arm.at(next));
+        }
+        self.world.step();
+        self.time = next;
+        self.steps += 1;
+        for i in 0..self.hands.len() {
+            let c = self.contacts(i);
+            self.max_penetration = self.max_penetration.max(c.penetration);
+        }
+        self.check_finite()
+    }
+
+    /// Stops at the first non-finite or runaway body, naming the bone (or the object).
+    fn check_finite(&mut self) -> Result<(), SimError> {
+        // Faster than anything a hand does: 2000 rad/s, 50 m/s.
+        let runaway = |b: &rapier3d_f64::prelude::RigidBody| {
+            let p = b.position();
+            !(p.translation.is_finite()
+                && p.rotation.is_finite()
+                && b.angvel().length() < 2000.0
+                && b.linvel().length() < 50.0)
+        };
+        for (i, h) in self.hands.iter().enumerate() {
+            for (k, body) in h.body.bone_bodies().iter().enumerate() {
+                if runaway(&self.world.bodies[*body]) {
+                    let bone = &h.setup.hand.bones()[k];
+                    return Err(SimError::Diverged {
+                        time: self.time,
+                        what: format!(
+                            "hand {i}, bone '{}' (joint {}) ran away: lower the gains or the time step",
+                            bone.name,
+                            h.setup
+                                .hand
+                                .dof_names()
+                                .get(bone.first_dof)
+                                .map_or("fixed", |s| s.as_str())
+                        ),
+                    });
+                }
+            }
+        }
+        if let Some(o) = &self.object {
+            if runaway(&self.world.bodies[o.body]) {
+                return Err(SimError::Diverged {
+                    time: self.time,
+                    what: "the object ran away".into(),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    fn record(&mut self) {
+        for h in &mut self.hands {
+            let frames: Vec<Transform> = h
+                .body
+                .bone_bodies()
+                .iter()
+                .map(|b| convert::transform(self.world.bodies[*b].position()))
+                .collect();
+            let bones = h.setup.hand.bones();
+            let rotations = bones
+                .iter()
+                .enumerate()
+                .map(|(k, bone)| match bone.parent {
+                    None => Rotation::identity(),
+                    Some(p) => ((frames[p] * bone.rest).inverse() * frames[k]).rotation,
+                })
+                .collect();
+            h.frames.push(Keyframe {
+                time: self.time,
+                root: frames[0] * h.palm_local.inverse(),
+                rotations,
+            });
+        }
+        if let Some(pose) = self.object_pose() {
+            self.object_frames.push(pose);
+        }
+    }
+}
+
+fn diverged(time: f64, hand: usize, e: impl std::fmt::Display) -> SimError {
+    SimError::Diverged {
+        time,
+        what: format!("hand {hand}: {e}"),
+    }
+}

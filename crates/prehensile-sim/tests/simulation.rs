@@ -1,0 +1,195 @@
+//! The simulated hand: passive settling, joint-limit springs, divergence detection, bad input.
+
+use prehensile_core::math::{Transform, Vec3};
+use prehensile_sim::scenarios::{self, Options, PlannedGrasp, Scenario};
+use prehensile_sim::{
+    ArmTrajectory, DistanceTo, HandSetup, Settings, SimError, Simulation, Waypoint,
+};
+
+fn human() -> prehensile_core::HandModel {
+    prehensile_formats::builtin_hand("human").unwrap()
+}
+
+fn passive_setup(hand: &prehensile_core::HandModel, gravity: Vec3) -> (HandSetup, Vec<f64>) {
+    let poses = PlannedGrasp::without_object(hand).unwrap();
+    let mut controller = poses.controller(hand, &gravity).unwrap();
+    controller.active = false;
+    let neutral = controller.setpoints.neutral.clone();
+    (
+        HandSetup {
+            hand: hand.clone(),
+            controller,
+            arm: ArmTrajectory::new(vec![Waypoint {
+                time: 0.0,
+                root: Transform::identity(),
+            }]),
+            start: poses.open.clone(),
+            distance: DistanceTo::Constant(1.0),
+            release_at: None,
+            compensate_gravity: false,
+            compensate_arm: false,
+            manual: Vec::new(),
+        },
+        neutral,
+    )
+}
+
+#[test]
+fn without_gravity_the_passive_hand_settles_at_its_neutral_pose() {
+    let hand = human();
+    let settings = Settings {
+        gravity: Vec3::zeros(),
+        ..Settings::default()
+    };
+    let (setup, neutral) = passive_setup(&hand, settings.gravity);
+    let start_error = setup
+        .start
+        .iter()
+        .zip(&neutral)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    let mut sim = Simulation::new(settings).unwrap();
+    sim.add_hand(setup).unwrap();
+    for _ in 0..2000 {
+        sim.step().unwrap();
+    }
+    let error = sim
+        .joint_angles(0)
+        .iter()
+        .zip(&neutral)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(start_error > 0.3, "the test must start away from neutral");
+    assert!(error < 0.02, "{error} rad from neutral after 2 s");
+}
+
+#[test]
+fn joint_limit_springs_keep_the_dropped_fingers_near_their_range() {
+    let options = Options {
+        hand: human(),
+        objects: Vec::new(),
+        alpha: 0.0,
+        settings: Settings::default(),
+        seconds: Some(1.0),
+    };
+    let (report, recording) = scenarios::run(Scenario::Drop, &options, &mut |_, _| {}).unwrap();
+    assert!(report.finite);
+    let violation = |k: usize| report.cases[k].metrics["max_limit_violation_rad"];
+    assert!(
+        violation(0) < 0.5 * violation(1),
+        "with limits {} rad, without {} rad",
+        violation(0),
+        violation(1)
+    );
+    assert!(recording.hands[0].1.len() >= 59, "60 fps recording");
+}
+
+#[test]
+fn absurd_gains_are_caught_as_divergence_naming_the_bone() {
+    let hand = human();
+    let settings = Settings::default();
+    let (mut setup, _) = passive_setup(&hand, settings.gravity);
+    setup.controller.gains.k_s = 1e12;
+    setup.controller.gains.k_d = 0.0;
+    setup.compensate_gravity = true;
+    // An explicit torque this large overwhelms any integrator: give it through τG by scaling
+    // gravity instead of the (implicit, stable) springs.
+    let mut sim = Simulation::new(Settings {
+        gravity: Vec3::new(0.0, 0.0, -9.81e9),
+        ..settings
+    })
+    .unwrap();
+    sim.add_hand(setup).unwrap();
+    let mut outcome = Ok(());
+    for _ in 0..2000 {
+        outcome = sim.step();
+        if outcome.is_err() {
+            break;
+        }
+    }
+    match outcome {
+        Err(SimError::Diverged { time, what }) => {
+            assert!(time.is_finite() && time < 2.0);
+            assert!(what.contains("bone") || what.contains("hand 0"), "{what}");
+        }
+        other => panic!("expected divergence, got {other:?}"),
+    }
+}
+
+#[test]
+fn bad_settings_and_setpoints_are_refused_with_reasons() {
+    for (settings, word) in [
+        (
+            Settings {
+                dt: 0.5,
+                ..Settings::default()
+            },
+            "too large",
+        ),
+        (
+            Settings {
+                dt: f64::NAN,
+                ..Settings::default()
+            },
+            "positive",
+        ),
+        (
+            Settings {
+                friction: -1.0,
+                ..Settings::default()
+            },
+            "friction",
+        ),
+        (
+            Settings {
+                solver_iterations: 0,
+                ..Settings::default()
+            },
+            "iterations",
+        ),
+    ] {
+        let e = Simulation::new(settings).err().expect("refused");
+        assert!(e.to_string().contains(word), "{e}");
+    }
+    let hand = human();
+    let (mut setup, _) = passive_setup(&hand, Vec3::zeros());
+    setup.controller.setpoints.positions[2][3] = f64::NAN;
+    let mut sim = Simulation::new(Settings::default()).unwrap();
+    let e = sim.add_hand(setup).unwrap_err();
+    assert!(e.to_string().contains("not finite"), "{e}");
+    let (mut setup, _) = passive_setup(&hand, Vec3::zeros());
+    setup.start.pop();
+    assert!(sim.add_hand(setup).is_err());
+}
+
+#[test]
+fn the_run_report_never_contains_nan() {
+    let options = Options {
+        hand: human(),
+        objects: Vec::new(),
+        alpha: 0.0,
+        settings: Settings::default(),
+        seconds: Some(0.6),
+    };
+    let (report, _) = scenarios::run(Scenario::Shake, &options, &mut |_, _| {}).unwrap();
+    // serde_json writes a NaN as null: every measured number must be a number.
+    let json: serde_json::Value = serde_json::to_value(&report).unwrap();
+    for case in json["cases"].as_array().unwrap() {
+        for key in ["max_penetration_m", "realtime_factor"] {
+            assert!(case[key].as_f64().is_some_and(f64::is_finite), "{case}");
+        }
+        for (name, value) in case["metrics"].as_object().unwrap() {
+            assert!(
+                value.as_f64().is_some_and(f64::is_finite),
+                "{name}: {value}"
+            );
+        }
+    }
+    assert!(report.finite);
+    assert!(report.realtime_factor > 0.0);
+    let bad = Options {
+        alpha: f64::NAN,
+        ..options
+    };
+    assert!(scenarios::run(Scenario::Shake, &bad, &mut |_, _| {}).is_err());
+}
