@@ -101,6 +101,5 @@ pub fn run(args: &DemoArgs) -> Result<i32, CliError> {
 }
 
 fn write(path: &std::path::Path, text: &str) -> Result<(), CliError> {
-    std::fs::write(path, text)
-        .map_err(|e| CliError(format!("cannot write {}: {e}", path.display())))
+    super::write_file(path, text.as_bytes())
 }

@@ -25,8 +25,7 @@ pub fn run(args: &FitArgs) -> Result<i32, CliError> {
             let motion = grasp.example(&hand, &gains);
             let path = args.out.with_extension("motion.json");
             let json = serde_json::to_string_pretty(&motion).map_err(CliError::from_display)?;
-            std::fs::write(&path, json)
-                .map_err(|e| CliError(format!("cannot write {}: {e}", path.display())))?;
+            super::write_file(&path, json.as_bytes())?;
             println!(
                 "wrote {} (the synthetic example of a grasp of '{}')",
                 path.display(),
@@ -40,8 +39,7 @@ pub fn run(args: &FitArgs) -> Result<i32, CliError> {
     let controller = fit_controller(&hand, &motion, gains, open_while_closing, &base)
         .map_err(|e| CliError(format!("fitting: {e}")))?;
     let text = ControllerFile::new(&hand, &controller).to_toml();
-    std::fs::write(&args.out, text)
-        .map_err(|e| CliError(format!("cannot write {}: {e}", args.out.display())))?;
+    super::write_file(&args.out, text.as_bytes())?;
     println!(
         "fitted {} frames ({:.2} s) for hand '{}'; wrote {}",
         motion.frames.len(),

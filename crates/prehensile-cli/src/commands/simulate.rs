@@ -5,6 +5,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use prehensile_sim::scenarios::{self, Options, Scenario};
 use prehensile_sim::Settings;
 
+use super::write_file as write;
 use crate::args::SimulateArgs;
 use crate::{sources, CliError};
 
@@ -92,7 +93,7 @@ pub fn run(args: &SimulateArgs) -> Result<i32, CliError> {
             println!("wrote {}", path.display());
         }
         if let Some(path) = &args.bvh {
-            let fps = 1.0 / options.settings.record_fps.recip();
+            let fps = options.settings.record_fps;
             write(
                 path,
                 prehensile_formats::write_bvh(hand, frames, fps).as_bytes(),
@@ -101,13 +102,4 @@ pub fn run(args: &SimulateArgs) -> Result<i32, CliError> {
         }
     }
     Ok(if report.finite { 0 } else { 1 })
-}
-
-fn write(path: &std::path::Path, bytes: &[u8]) -> Result<(), CliError> {
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| CliError(format!("cannot create {}: {e}", dir.display())))?;
-    }
-    std::fs::write(path, bytes)
-        .map_err(|e| CliError(format!("cannot write {}: {e}", path.display())))
 }
