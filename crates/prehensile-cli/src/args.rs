@@ -68,8 +68,8 @@ pub struct SimulateArgs {
     /// Units, scale and repair of mesh files.
     #[command(flatten)]
     pub mesh_options: MeshOptions,
-    /// Grip strength α (Eq. 15–16).
-    #[arg(long, default_value_t = 0.3)]
+    /// Grip strength α (Eq. 15–16; the paper used 0 to 0.5).
+    #[arg(long, default_value_t = 0.5)]
     pub alpha: f64,
     /// Time step, seconds.
     #[arg(long, default_value_t = 0.001)]
@@ -80,8 +80,9 @@ pub struct SimulateArgs {
     /// Friction coefficient.
     #[arg(long, default_value_t = 1.0)]
     pub friction: f64,
-    /// Object density, kg/m³.
-    #[arg(long, default_value_t = 500.0)]
+    /// Object density, kg/m³. The default (20, like expanded polystyrene) gives objects of
+    /// 5–10 g, what the paper's soft hand can lift; try 500 to see heavier objects slip out.
+    #[arg(long, default_value_t = 20.0)]
     pub density: f64,
     /// The run report (JSON).
     #[arg(long, default_value = "run.json")]

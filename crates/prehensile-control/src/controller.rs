@@ -270,7 +270,7 @@ pub struct GraspController {
     /// Whether τA acts (false: the passive hand of the drop test).
     pub active: bool,
     /// A setpoint chosen by hand (Fig. 7's interactive open/close), overriding the state
-    /// machine's blend while set.
+    /// machine's blend while set; the grip setpoint (2) is extrapolated by α as in GRIPPING.
     pub manual_setpoint: Option<usize>,
     /// Keep the hand open (B[1] = 1) through CLOSING, as the paper's grasps did (§7) "to keep
     /// the hand from contacting the object too quickly"; it closes on GRIPPING.
@@ -296,6 +296,8 @@ impl GraspController {
         self.state = self.state.next(distance, release, &self.gains);
         let only = |j: usize| std::array::from_fn(|i| if i == j.min(5) { 1.0 } else { 0.0 });
         match self.manual_setpoint {
+            // The grip setpoint carries the grip strength, as in GRIPPING.
+            Some(2) => GraspState::Gripping.blend(distance, self.alpha, &self.gains),
             Some(j) => only(j),
             None if self.open_while_closing && self.state == GraspState::Closing => only(1),
             None => self.state.blend(distance, self.alpha, &self.gains),

@@ -3,8 +3,9 @@
 //! optional sinusoidal shake; velocities and accelerations by central differences of the
 //! analytic path, for the arm-motion compensation τARM.
 
-use prehensile_control::BaseMotion;
 use prehensile_core::math::{Transform, Vec3};
+
+use crate::holding_wrench::FrameMotion;
 
 /// One waypoint: the hand's root placement at a time.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -89,25 +90,22 @@ impl ArmTrajectory {
         root
     }
 
-    /// The motion of the frame `root · local` at time `t` for the dynamics: angular velocity,
-    /// angular acceleration and linear acceleration minus `gravity`, all in that frame.
-    pub fn base_motion(&self, t: f64, local: &Transform, gravity: &Vec3) -> BaseMotion {
+    /// The motion of the frame `root · local` at time `t`, world coordinates (central
+    /// differences of the analytic path).
+    pub fn frame_motion(&self, t: f64, local: &Transform) -> FrameMotion {
         let h = 1e-4;
         let frame = |t: f64| self.at(t) * local;
         let (before, now, after) = (frame(t - h), frame(t), frame(t + h));
-        let to_local = now.rotation.inverse();
         let omega =
             |a: &Transform, b: &Transform| (b.rotation * a.rotation.inverse()).scaled_axis() / h;
         let (w0, w1) = (omega(&before, &now), omega(&now, &after));
-        let angular_velocity = (w0 + w1) / 2.0;
-        let angular_acceleration = (w1 - w0) / h;
-        let acceleration = (after.translation.vector - 2.0 * now.translation.vector
-            + before.translation.vector)
-            / (h * h);
-        BaseMotion {
-            angular_velocity: to_local * angular_velocity,
-            angular_acceleration: to_local * angular_acceleration,
-            linear_acceleration_minus_gravity: to_local * (acceleration - gravity),
+        FrameMotion {
+            origin: now.translation.vector.into(),
+            linear_acceleration: (after.translation.vector - 2.0 * now.translation.vector
+                + before.translation.vector)
+                / (h * h),
+            angular_velocity: (w0 + w1) / 2.0,
+            angular_acceleration: (w1 - w0) / h,
         }
     }
 

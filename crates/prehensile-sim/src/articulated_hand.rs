@@ -6,12 +6,12 @@
 //! than reduced-coordinate multibodies (several times faster in rapier 0.36, and multibodies
 //! panic on two-axis joints); every degree of freedom is a revolute joint whose motor carries
 //! the controller's τP + τA as an implicit spring ([`prehensile_control::joint_springs`]), so the
-//! stiff limit springs integrate stably at millisecond steps; τG + τARM, which are smooth, are
-//! applied as explicit torque pairs. A two-axis bone becomes two revolute joints in series
+//! stiff limit springs integrate stably at millisecond steps; τG + τARM are applied as the
+//! equivalent wrench on each body ([`crate::holding_wrench`]). A two-axis bone becomes two revolute joints in series
 //! through a small intermediate body (R = R(abduction)·R(flexion), as in the model).
 
-use prehensile_core::hand::Joint;
-use prehensile_core::math::{Rotation, Transform};
+use prehensile_core::hand::{Inertial, Joint};
+use prehensile_core::math::{Point3, Rotation, Transform, Vec3};
 use prehensile_core::HandModel;
 use rapier3d_f64::prelude::{
     ColliderBuilder, ColliderHandle, GenericJointBuilder, Group, ImpulseJointHandle,
@@ -20,10 +20,12 @@ use rapier3d_f64::prelude::{
 };
 
 use crate::convert;
+use crate::holding_wrench::{holding_wrench, FrameMotion};
 
 /// Mass of the intermediate body of a two-axis joint, as a fraction of its bone's mass. The
-/// dynamics model treats that link as massless; a rigid-body solver needs some mass, and 5%
-/// keeps the mass ratio along the chain mild.
+/// dynamics model treats that link as massless; the solver needs a mass ratio near one along the
+/// chain (at 5% the passive hand drifted 0.17 rad from neutral and joint limits stopped holding).
+/// Its weight and inertia are compensated like the bones' (see [`crate::holding_wrench`]).
 pub const INTERMEDIATE_MASS_FRACTION: f64 = 1.0;
 
 /// One controlled degree of freedom: a revolute joint between two bodies.
@@ -44,9 +46,14 @@ pub struct ArticulatedHand {
     bones: Vec<RigidBodyHandle>,
     /// The intermediate bodies of two-axis joints.
     intermediates: Vec<RigidBodyHandle>,
+    /// Every moving body with its mass, centre of mass and inertia (body frame), for the
+    /// compensation wrenches.
+    masses: Vec<(RigidBodyHandle, Inertial)>,
     /// One per degree of freedom, in [`HandModel::dof_names`] order.
     dofs: Vec<DofJoint>,
     colliders: Vec<ColliderHandle>,
+    /// The bone of every collider, parallel to `colliders`.
+    collider_bones: Vec<usize>,
 }
 
 /// Collision filtering: hands never collide with themselves; `group` is this hand's bit
@@ -78,7 +85,9 @@ impl ArticulatedHand {
         let mut bones = Vec::with_capacity(hand.bones().len());
         let mut dofs = Vec::with_capacity(hand.dof_count());
         let mut colliders = Vec::new();
+        let mut collider_bones = Vec::new();
         let mut intermediates = Vec::new();
+        let mut masses = Vec::new();
         for (k, bone) in hand.bones().iter().enumerate() {
             let builder = match bone.parent {
                 None => RigidBodyBuilder::kinematic_position_based(),
@@ -95,6 +104,9 @@ impl ArticulatedHand {
                 ));
             }
             let body = world.bodies.insert(builder);
+            if let (Some(inertial), Some(_)) = (bone.inertial, bone.parent) {
+                masses.push((body, inertial));
+            }
             for capsule in hand.bone_capsules(k) {
                 let collider = ColliderBuilder::capsule_from_endpoints(
                     convert::point(&capsule.a),
@@ -109,6 +121,7 @@ impl ArticulatedHand {
                     body,
                     &mut world.bodies,
                 ));
+                collider_bones.push(k);
             }
             bones.push(body);
             let Some(parent) = bone.parent else { continue };
@@ -153,6 +166,14 @@ impl ArticulatedHand {
                             )),
                     );
                     intermediates.push(middle);
+                    masses.push((
+                        middle,
+                        Inertial {
+                            mass,
+                            center_of_mass: Point3::origin(),
+                            inertia: nalgebra::Matrix3::from_diagonal_element(inertia),
+                        },
+                    ));
                     // Degree of freedom 0 is flexion, 1 abduction.
                     let flex = revolute(world, middle, Pose::IDENTITY, body, Pose::IDENTITY, inner);
                     let abd = revolute(world, parent_body, rest, middle, Pose::IDENTITY, outer);
@@ -168,8 +189,10 @@ impl ArticulatedHand {
             hand: hand.clone(),
             bones,
             intermediates,
+            masses,
             dofs,
             colliders,
+            collider_bones,
         }
     }
 
@@ -191,6 +214,11 @@ impl ArticulatedHand {
     /// Every capsule collider of the hand.
     pub fn colliders(&self) -> &[ColliderHandle] {
         &self.colliders
+    }
+
+    /// The bone each of [`ArticulatedHand::colliders`] belongs to.
+    pub fn collider_bones(&self) -> &[usize] {
+        &self.collider_bones
     }
 
     /// Joint angles and rates of every degree of freedom, read from the bodies.
@@ -216,21 +244,16 @@ impl ArticulatedHand {
         }
     }
 
-    /// Sets every joint's motor to its spring (stiffness, damping, target) — the implicit
-    /// τP + τA — and applies the explicit torques `tau` (τG + τARM) as equal and opposite pairs.
-    pub fn drive(
-        &self,
-        world: &mut PhysicsWorld,
-        springs: &[prehensile_control::JointSpring],
-        tau: &[f64],
-    ) {
+    /// Clears last step's forces and sets every joint's motor to its spring (stiffness,
+    /// damping, target): the implicit τP + τA.
+    pub fn drive(&self, world: &mut PhysicsWorld, springs: &[prehensile_control::JointSpring]) {
         for body in self.bones.iter().chain(&self.intermediates) {
             if let Some(b) = world.bodies.get_mut(*body) {
+                b.reset_forces(false);
                 b.reset_torques(false);
             }
         }
-        for (k, dof) in self.dofs.iter().enumerate() {
-            let s = &springs[k];
+        for (dof, s) in self.dofs.iter().zip(springs) {
             if let Some(joint) = world.impulse_joints.get_mut(dof.joint, false) {
                 joint.data.set_motor(
                     JointAxis::AngX,
@@ -240,9 +263,25 @@ impl ArticulatedHand {
                     s.damping,
                 );
             }
-            let axis = *world.bodies[dof.child].rotation() * dof.axis_in_child;
-            world.bodies[dof.child].add_torque(axis * tau[k], false);
-            world.bodies[dof.parent].add_torque(-axis * tau[k], false);
+        }
+    }
+
+    /// Adds to every moving body the wrench that carries it along with the palm moving as
+    /// `palm` and holds it against `gravity` (τARM and τG; see [`crate::holding_wrench`]).
+    pub fn hold(&self, world: &mut PhysicsWorld, palm: &FrameMotion, gravity: &Vec3) {
+        for (handle, inertial) in &self.masses {
+            let body = &mut world.bodies[*handle];
+            let frame = convert::transform(body.position());
+            let turn = frame.rotation.to_rotation_matrix().into_inner();
+            let (force, torque) = holding_wrench(
+                inertial.mass,
+                &(frame * inertial.center_of_mass),
+                &(turn * inertial.inertia * turn.transpose()),
+                palm,
+                gravity,
+            );
+            body.add_force(convert::vector(&force), false);
+            body.add_torque(convert::vector(&torque), false);
         }
     }
 

@@ -9,12 +9,14 @@
 mod arm_trajectory;
 mod articulated_hand;
 mod convert;
+mod holding_wrench;
 mod object_body;
 pub mod scenarios;
 mod simulation;
 
 pub use arm_trajectory::{ArmTrajectory, Shake, Waypoint};
 pub use articulated_hand::{check_hand, hand_groups, ArticulatedHand, INTERMEDIATE_MASS_FRACTION};
+pub use holding_wrench::{holding_wrench, FrameMotion};
 pub use object_body::{object_shape, ObjectBody, ObjectShape, OBJECT_GROUP};
 pub use simulation::{Contacts, DistanceTo, HandSetup, Settings, Simulation, StateChange};
 

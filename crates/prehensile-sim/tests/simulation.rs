@@ -64,6 +64,43 @@ fn without_gravity_the_passive_hand_settles_at_its_neutral_pose() {
 }
 
 #[test]
+fn compensated_gravity_leaves_a_tilted_hand_where_it_is() {
+    let hand = human();
+    let settings = Settings::default();
+    let sag = |compensate: bool| {
+        let (mut setup, _) = passive_setup(&hand, settings.gravity);
+        // Hold the planned closed pose, palm turned so gravity bends every finger sideways.
+        let poses = PlannedGrasp::without_object(&hand).unwrap();
+        setup.controller.setpoints.neutral = poses.closed.clone();
+        setup.start = poses.closed.clone();
+        setup.compensate_gravity = compensate;
+        setup.arm = ArmTrajectory::new(vec![Waypoint {
+            time: 0.0,
+            root: Transform::from_parts(
+                Vec3::zeros().into(),
+                prehensile_core::math::Rotation::from_euler_angles(1.57, 0.3, 0.0),
+            ),
+        }]);
+        let mut sim = Simulation::new(settings).unwrap();
+        sim.add_hand(setup).unwrap();
+        for _ in 0..1000 {
+            sim.step().unwrap();
+        }
+        sim.joint_angles(0)
+            .iter()
+            .zip(&poses.closed)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max)
+    };
+    let (without, with) = (sag(false), sag(true));
+    assert!(
+        without > 0.2,
+        "gravity must bend the weak fingers: {without} rad"
+    );
+    assert!(with < 0.02, "compensated, the hand still sagged {with} rad");
+}
+
+#[test]
 fn joint_limit_springs_keep_the_dropped_fingers_near_their_range() {
     let options = Options {
         hand: human(),
@@ -91,9 +128,8 @@ fn absurd_gains_are_caught_as_divergence_naming_the_bone() {
     let (mut setup, _) = passive_setup(&hand, settings.gravity);
     setup.controller.gains.k_s = 1e12;
     setup.controller.gains.k_d = 0.0;
-    setup.compensate_gravity = true;
-    // An explicit torque this large overwhelms any integrator: give it through τG by scaling
-    // gravity instead of the (implicit, stable) springs.
+    // A force this large overwhelms any integrator: give it by scaling gravity (uncompensated)
+    // instead of the (implicit, stable) springs.
     let mut sim = Simulation::new(Settings {
         gravity: Vec3::new(0.0, 0.0, -9.81e9),
         ..settings
@@ -192,4 +228,64 @@ fn the_run_report_never_contains_nan() {
         ..options
     };
     assert!(scenarios::run(Scenario::Shake, &bad, &mut |_, _| {}).is_err());
+}
+
+fn options(objects: &[&str], alpha: f64) -> Options {
+    Options {
+        hand: human(),
+        objects: objects
+            .iter()
+            .map(|name| {
+                let mesh = prehensile_core::shapes::builtin_object(name).unwrap();
+                prehensile_core::ObjectModel::new(name, mesh, None).unwrap()
+            })
+            .collect(),
+        alpha,
+        settings: Settings::default(),
+        seconds: None,
+    }
+}
+
+#[test]
+fn the_hand_lifts_a_light_sphere_and_carries_it() {
+    let (report, _) =
+        scenarios::run(Scenario::Grasp, &options(&["sphere"], 0.5), &mut |_, _| {}).unwrap();
+    let case = &report.cases[0];
+    assert!(case.finite);
+    assert_eq!(case.held, Some(true), "{case:?}");
+    assert!(case.metrics["object_rise_m"] > 0.08, "{case:?}");
+    assert!(case.object_slip_m.unwrap() < 0.01, "{case:?}");
+}
+
+#[test]
+fn the_grip_force_grows_with_grip_strength() {
+    let (report, _) = scenarios::run(
+        Scenario::GripSweep,
+        &options(&["sphere"], 0.0),
+        &mut |_, _| {},
+    )
+    .unwrap();
+    let grip: Vec<f64> = report
+        .cases
+        .iter()
+        .map(|c| c.metrics["grip_force_n"])
+        .collect();
+    assert_eq!(grip.len(), 6);
+    assert!(
+        grip.windows(2).all(|w| w[1] > w[0]),
+        "grip force by α 0, 0.1, …, 0.5: {grip:?}"
+    );
+    assert!(grip[5] > 5.0 * grip[0], "{grip:?}");
+}
+
+#[test]
+fn arm_compensation_removes_most_of_the_finger_lag_of_a_shake() {
+    let (report, _) = scenarios::run(Scenario::Shake, &options(&[], 0.0), &mut |_, _| {}).unwrap();
+    let lag = |k: usize| report.cases[k].metrics["finger_lag_rms_rad"];
+    assert!(
+        lag(0) < 0.2 * lag(1),
+        "with τARM {} rad, without {} rad",
+        lag(0),
+        lag(1)
+    );
 }

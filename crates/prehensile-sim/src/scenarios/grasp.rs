@@ -49,8 +49,18 @@ pub(crate) fn grasp_case(
     let mut slip = None;
     let mut lifted_height = 0.0;
     let mut force = (0.0, 0usize);
+    // The grip on the object while it is still held in place (the last 0.2 s before let-go):
+    // the squeeze the controller produces, whether or not the grasp then holds.
+    let mut grip = (0.0, 0usize);
+    let mut bones_touching = 0;
     let mut each = |sim: &mut Simulation| {
         let t = sim.time();
+        if t >= times.let_go - 0.2 && t < times.let_go {
+            let contacts = sim.contacts(0);
+            grip.0 += contacts.force;
+            grip.1 += 1;
+            bones_touching = contacts.bone_forces.iter().filter(|f| **f > 0.0).count();
+        }
         if let_go_at.is_none() && t >= times.let_go {
             sim.let_go_object();
             let_go_at = Some(in_hand(sim));
@@ -77,6 +87,17 @@ pub(crate) fn grasp_case(
     }
     if force.1 > 0 {
         report.mean_contact_force_n = Some(force.0 / force.1 as f64);
+    }
+    if grip.1 > 0 {
+        report
+            .metrics
+            .insert("grip_force_n".into(), grip.0 / grip.1 as f64);
+        report
+            .metrics
+            .insert("bones_touching_at_let_go".into(), bones_touching as f64);
+    }
+    if let Some(body) = sim.object() {
+        report.metrics.insert("object_mass_kg".into(), body.mass);
     }
     report.metrics.insert(
         "fingers_touching_planned".into(),

@@ -1,6 +1,6 @@
 //! Grip strength (§6, Eq. 15–16): the same grasp at α = 0, 0.1, …, 0.5. The grip setpoint moves
-//! further along the closing line as α grows, so the contact force should grow and the slip
-//! shrink.
+//! further along the closing line as α grows, so the grip force on the object (`grip_force_n`,
+//! measured while the object is still held in place) grows with it.
 
 use super::grasp::{example_controller, grasp_case};
 use super::{CaseReport, Options, Recording, Scenario};

@@ -16,12 +16,13 @@ pub(crate) fn run(
         .seconds
         .unwrap_or(Scenario::OpenClose.default_seconds());
     let times = GraspTimes::default();
-    // After the lift: open for 80 ms, grip for 420 ms, three times; then the state machine.
+    // After the lift: open for 30 ms, grip for 470 ms, three times; then the state machine.
+    // (Longer openings drop a light object from the paper's soft hand: 50 ms did.)
     let mut manual = Vec::new();
     for k in 0..3 {
         let t = times.lifted + 0.1 + 0.5 * k as f64;
         manual.push((t, Some(1)));
-        manual.push((t + 0.08, Some(2)));
+        manual.push((t + 0.03, Some(2)));
     }
     manual.push((times.lifted + 1.6, None));
     let mut hold = times;
