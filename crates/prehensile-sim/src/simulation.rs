@@ -444,7 +444,9 @@ impl Simulation {
             };
             let h = &self.hands[i];
             h.body.drive(&mut self.world, &springs);
-            h.body.hold(&mut self.world, &palm, &gravity);
+            if h.setup.compensate_gravity || h.setup.compensate_arm {
+                h.body.hold(&mut self.world, &palm, &gravity);
+            }
             h.body.move_root(&mut self.world, &h.setup.arm.at(next));
         }
         self.world.step();
