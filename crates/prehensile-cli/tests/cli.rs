@@ -341,3 +341,69 @@ fn welding_repairs_the_can_with_hairline_holes_and_says_so() {
         text(&out.stderr)
     );
 }
+
+#[test]
+fn simulate_writes_a_finite_report_and_an_animation() {
+    let (json, glb) = (scratch("drop.json"), scratch("drop.glb"));
+    let out = prehensile(&[
+        "simulate",
+        "--scenario",
+        "drop",
+        "--seconds",
+        "0.2",
+        "--dt",
+        "0.0002",
+        "--out",
+        json.to_str().unwrap(),
+        "--glb",
+        glb.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let report: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    assert_eq!(report["scenario"], "drop");
+    assert_eq!(report["finite"], true);
+    assert_eq!(report["dt"], 0.0002);
+    let cases = report["cases"].as_array().unwrap();
+    assert_eq!(cases.len(), 2, "with and without joint limits");
+    for case in cases {
+        assert_eq!(case["steps"], 1000);
+        assert!(case["realtime_factor"].as_f64().unwrap() > 0.0);
+    }
+    assert_eq!(&std::fs::read(&glb).unwrap()[..4], b"glTF");
+}
+
+#[test]
+fn simulate_refuses_bad_settings_with_the_reason() {
+    for (option, value, reason) in [
+        ("--iterations", "0", "solver iterations"),
+        ("--dt", "0.5", "too large"),
+        ("--alpha", "NaN", "grip strength"),
+    ] {
+        let json = scratch("refused.json");
+        let out = prehensile(&[
+            "simulate",
+            "--scenario",
+            "drop",
+            "--seconds",
+            "0.1",
+            option,
+            value,
+            "--out",
+            json.to_str().unwrap(),
+        ]);
+        assert_eq!(out.status.code(), Some(2), "{option} {value}");
+        assert!(text(&out.stderr).contains(reason), "{}", text(&out.stderr));
+        assert!(!json.exists(), "no report for a refused run");
+    }
+}
+
+#[test]
+fn fit_writes_a_controller_from_a_generated_example() {
+    let toml = scratch("controller.toml");
+    let out = prehensile(&["fit", "--out", toml.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let written = std::fs::read_to_string(&toml).unwrap();
+    assert!(written.starts_with("schema = \"prehensile.controller/1\""));
+    assert!(written.contains("k_s = 200.0") && written.contains("k_jl = 5000.0"));
+    assert!(toml.with_extension("motion.json").exists());
+}

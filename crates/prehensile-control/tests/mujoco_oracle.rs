@@ -26,6 +26,7 @@ struct Oracle {
 /// The palm's orientation in the world for wrist angles `wrj1` and `wrj0`, from `robot.xml`:
 /// the hand mount's `euler="1.5708 0 3.14159"` (MuJoCo's default intrinsic x-y-z sequence),
 /// then WRJ1 about the wrist's y axis and WRJ0 about the palm's x axis (no other body rotations).
+#[allow(clippy::approx_constant, reason = "the file's numbers, not π/2 and π")]
 fn palm_orientation(wrj1: f64, wrj0: f64) -> nalgebra::Rotation3<f64> {
     let about = |axis: Vec3, angle: f64| {
         nalgebra::Rotation3::from_axis_angle(&nalgebra::Unit::new_normalize(axis), angle)

@@ -95,6 +95,13 @@ fn fixed_base_dynamics_match_pinocchio() {
         }
         let outboard = outboard_inertia(&hand, &q).unwrap();
         assert!(outboard.iter().all(|x| *x > 0.0));
+        for (k, &i) in ours.iter().enumerate() {
+            assert!(
+                close(outboard[i], sample.mass_matrix[k][k], scale),
+                "sample {s} outboard inertia of {}",
+                oracle.joint_order[k]
+            );
+        }
         // Cross-check: each column is also the torque for a unit acceleration (no gravity).
         let zero = vec![0.0; q.len()];
         for j in [0, 7, 19] {

@@ -153,6 +153,16 @@ fn absurd_gains_are_caught_as_divergence_naming_the_bone() {
 }
 
 #[test]
+fn substeps_follow_the_step_length() {
+    assert_eq!(Settings::iterations_for(0.0002), 2, "the paper's step");
+    assert_eq!(Settings::iterations_for(0.001), 4);
+    assert_eq!(Settings::default().solver_iterations, 4);
+    assert_eq!(Settings::iterations_for(0.0025), 10);
+    assert_eq!(Settings::iterations_for(f64::NAN), 2);
+    assert_eq!(Settings::iterations_for(1.0), 100, "capped");
+}
+
+#[test]
 fn bad_settings_and_setpoints_are_refused_with_reasons() {
     for (settings, word) in [
         (

@@ -38,6 +38,9 @@ pub fn run(args: &SimulateArgs) -> Result<i32, CliError> {
             dt: args.dt,
             friction: args.friction,
             object_density: args.density,
+            solver_iterations: args
+                .iterations
+                .unwrap_or_else(|| Settings::iterations_for(args.dt)),
             ..Settings::default()
         },
         seconds: args.seconds,
