@@ -90,7 +90,7 @@ pub struct SimulateArgs {
     /// The run report (JSON).
     #[arg(long, default_value = "run.json")]
     pub out: PathBuf,
-    /// Also write the first case as an animated glTF scene.
+    /// Also write the first case as an animated glTF scene (every hand, and the object).
     #[arg(long)]
     pub glb: Option<PathBuf>,
     /// Also write the first case's first hand as BVH.

@@ -153,45 +153,47 @@ pub fn grasp_glb(
     animated_glb(
         Some(object),
         &[],
-        hand,
-        keyframes,
+        &[(hand, keyframes)],
         skin,
         "approach and close",
     )
 }
 
-/// A GLB of a simulation run: the hand's keyframes and, with an object, its pose at every
-/// keyframe (`object_track`, one per keyframe) — the object moves with the run.
+/// A GLB of a simulation run: every hand with its keyframes and, with an object, its pose at
+/// every keyframe of the first hand (`object_track`, one per keyframe) — the object moves with
+/// the run. With several hands their bone nodes are named `hand 1: …`, `hand 2: …`.
 pub fn simulation_glb(
     object: Option<(&TriangleMesh, &[Transform])>,
-    hand: &HandModel,
-    keyframes: &[Keyframe],
+    hands: &[(&HandModel, &[Keyframe])],
 ) -> Vec<u8> {
     let (mesh, track) = match object {
         Some((m, t)) => (Some(m), t),
         None => (None, &[][..]),
     };
-    animated_glb(mesh, track, hand, keyframes, None, "simulation")
+    animated_glb(mesh, track, hands, None, "simulation")
 }
 
+/// A bone's transform in its parent node at `frame` (the root's includes the hand's placement).
+fn bone_local(hand: &HandModel, frame: &Keyframe, k: usize) -> Transform {
+    let bone = &hand.bones()[k];
+    let local = bone.rest * Transform::from_parts(Default::default(), frame.rotations[k]);
+    if bone.parent.is_none() {
+        frame.root * local
+    } else {
+        local
+    }
+}
+
+/// The scene: the object (node 0, if any), then each hand's bones as nodes with capsule meshes,
+/// then the skinned mesh bound to the first hand; one animation with every hand's keyframes and
+/// the object's track.
 fn animated_glb(
     object: Option<&TriangleMesh>,
     object_track: &[Transform],
-    hand: &HandModel,
-    keyframes: &[Keyframe],
+    hands: &[(&HandModel, &[Keyframe])],
     skin: Option<&SkinnedMesh>,
     animation_name: &str,
 ) -> Vec<u8> {
-    let rest = [Keyframe {
-        time: 0.0,
-        root: Transform::identity(),
-        rotations: vec![Default::default(); hand.bones().len()],
-    }];
-    let keyframes = if keyframes.is_empty() {
-        &rest[..]
-    } else {
-        keyframes
-    };
     let mut b = Builder::default();
     let materials = json!([
         {"name": "object", "pbrMetallicRoughness": {"baseColorFactor": [0.75, 0.75, 0.78, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.8}},
@@ -203,44 +205,56 @@ fn animated_glb(
         meshes.push(b.mesh(&object.vertices, &object.triangles, 0));
         nodes.push(json!({"name": "object", "mesh": 0}));
     }
-    let first_bone = nodes.len();
-    let rest_pose = |k: usize| -> Transform {
-        let bone = &hand.bones()[k];
-        let local =
-            bone.rest * Transform::from_parts(Default::default(), keyframes[0].rotations[k]);
-        if bone.parent.is_none() {
-            keyframes[0].root * local
+    let mut scene_nodes: Vec<usize> = (0..nodes.len()).collect();
+    // Each hand's keyframes (its rest pose at the origin when it has none) and first node.
+    let mut tracks: Vec<(&HandModel, Vec<Keyframe>, usize)> = Vec::new();
+    for (h, (hand, keyframes)) in hands.iter().enumerate() {
+        let keyframes = if keyframes.is_empty() {
+            vec![Keyframe {
+                time: 0.0,
+                root: Transform::identity(),
+                rotations: vec![Default::default(); hand.bones().len()],
+            }]
         } else {
-            local
-        }
-    };
-    for (k, bone) in hand.bones().iter().enumerate() {
-        let (translation, rotation) = trs(&rest_pose(k));
-        let mut node = json!({"name": bone.name, "translation": translation, "rotation": rotation});
-        let children: Vec<usize> = hand
-            .bones()
-            .iter()
-            .enumerate()
-            .filter(|(_, c)| c.parent == Some(k))
-            .map(|(i, _)| first_bone + i)
-            .collect();
-        if !children.is_empty() {
-            node["children"] = json!(children);
-        }
-        let capsules = hand.bone_capsules(k);
-        if !capsules.is_empty() {
-            let (mut p, mut t) = (Vec::new(), Vec::new());
-            for c in capsules {
-                capsule_triangles(&c.a, &c.b, c.radius, &mut p, &mut t);
+            keyframes.to_vec()
+        };
+        let prefix = if hands.len() > 1 {
+            format!("hand {}: ", h + 1)
+        } else {
+            String::new()
+        };
+        let first_bone = nodes.len();
+        for (k, bone) in hand.bones().iter().enumerate() {
+            let (translation, rotation) = trs(&bone_local(hand, &keyframes[0], k));
+            let mut node = json!({"name": format!("{prefix}{}", bone.name), "translation": translation, "rotation": rotation});
+            let children: Vec<usize> = hand
+                .bones()
+                .iter()
+                .enumerate()
+                .filter(|(_, c)| c.parent == Some(k))
+                .map(|(i, _)| first_bone + i)
+                .collect();
+            if !children.is_empty() {
+                node["children"] = json!(children);
             }
-            node["mesh"] = json!(meshes.len());
-            meshes.push(b.mesh(&p, &t, 1));
+            let capsules = hand.bone_capsules(k);
+            if !capsules.is_empty() {
+                let (mut p, mut t) = (Vec::new(), Vec::new());
+                for c in capsules {
+                    capsule_triangles(&c.a, &c.b, c.radius, &mut p, &mut t);
+                }
+                node["mesh"] = json!(meshes.len());
+                meshes.push(b.mesh(&p, &t, 1));
+            }
+            nodes.push(node);
         }
-        nodes.push(node);
+        scene_nodes.push(first_bone);
+        tracks.push((hand, keyframes, first_bone));
     }
-    let mut scene_nodes: Vec<usize> = (0..first_bone).chain([first_bone]).collect();
     let mut skins = Vec::new();
-    if let Some(skin) = skin.filter(|s| !s.positions.is_empty()) {
+    if let (Some(skin), Some((hand, _, first_bone))) =
+        (skin.filter(|s| !s.positions.is_empty()), tracks.first())
+    {
         let p: Vec<f32> = skin
             .positions
             .iter()
@@ -282,24 +296,15 @@ fn animated_glb(
         nodes.push(json!({"name": "skinned hand", "mesh": meshes.len() - 1, "skin": 0}));
         scene_nodes.push(nodes.len() - 1);
     }
-    let mut animations = Vec::new();
-    if keyframes.len() > 1 {
+    let (mut samplers, mut channels) = (Vec::new(), Vec::new());
+    for (h, (hand, keyframes, first_bone)) in tracks.iter().enumerate() {
+        if keyframes.len() < 2 {
+            continue;
+        }
         let times: Vec<f32> = keyframes.iter().map(|k| k.time as f32).collect();
         let input = b.floats(&times, "SCALAR", 1, None, true);
-        let (mut samplers, mut channels) = (Vec::new(), Vec::new());
-        for (k, bone) in hand.bones().iter().enumerate() {
-            let locals: Vec<Transform> = keyframes
-                .iter()
-                .map(|f| {
-                    let local =
-                        bone.rest * Transform::from_parts(Default::default(), f.rotations[k]);
-                    if bone.parent.is_none() {
-                        f.root * local
-                    } else {
-                        local
-                    }
-                })
-                .collect();
+        for k in 0..hand.bones().len() {
+            let locals: Vec<Transform> = keyframes.iter().map(|f| bone_local(hand, f, k)).collect();
             let rotations: Vec<f32> = locals
                 .iter()
                 .flat_map(|t| trs(t).1.into_iter().map(|v| v as f32))
@@ -307,17 +312,17 @@ fn animated_glb(
             let output = b.floats(&rotations, "VEC4", 4, None, false);
             samplers.push(json!({"input": input, "output": output, "interpolation": "LINEAR"}));
             channels.push(json!({"sampler": samplers.len() - 1, "target": {"node": first_bone + k, "path": "rotation"}}));
-            if bone.parent.is_none() {
+            if hand.bones()[k].parent.is_none() {
                 let translations: Vec<f32> = locals
                     .iter()
                     .flat_map(|t| trs(t).0.into_iter().map(|v| v as f32))
                     .collect();
                 let output = b.floats(&translations, "VEC3", 3, None, false);
                 samplers.push(json!({"input": input, "output": output, "interpolation": "LINEAR"}));
-                channels.push(json!({"sampler": samplers.len() - 1, "target": {"node": first_bone, "path": "translation"}}));
+                channels.push(json!({"sampler": samplers.len() - 1, "target": {"node": first_bone + k, "path": "translation"}}));
             }
         }
-        if object.is_some() && object_track.len() == keyframes.len() {
+        if h == 0 && object.is_some() && object_track.len() == keyframes.len() {
             let (translations, rotations): (Vec<Vec<f64>>, Vec<Vec<f64>>) =
                 object_track.iter().map(trs).unzip();
             for (path, values, kind, width) in [
@@ -332,6 +337,9 @@ fn animated_glb(
                 );
             }
         }
+    }
+    let mut animations = Vec::new();
+    if !channels.is_empty() {
         animations
             .push(json!({"name": animation_name, "samplers": samplers, "channels": channels}));
     }

@@ -38,3 +38,52 @@ fn a_grasp_scene_reads_back_with_its_bones_meshes_and_animation() {
     assert!(((first.translation.vector - last.translation.vector).norm() - 0.1).abs() < 1e-12);
     assert!((first * Point3::origin()).y < (last * Point3::origin()).y);
 }
+
+#[test]
+fn a_simulation_scene_carries_every_hand_and_the_object_track() {
+    let hand = builtin_hand("human").unwrap();
+    let mesh = builtin_object("sphere").unwrap();
+    let movement = hand.movement("power").unwrap();
+    let fractions = vec![0.6; hand.bones().len()];
+    let first = approach_and_close(
+        &hand,
+        movement,
+        &Transform::identity(),
+        0.01,
+        &fractions,
+        0.1,
+        5,
+    );
+    let second: Vec<_> = first
+        .iter()
+        .map(|f| {
+            let mut f = f.clone();
+            f.root = Transform::translation(0.0, 0.3, 0.0) * f.root;
+            f
+        })
+        .collect();
+    let track: Vec<Transform> = first.iter().map(|f| f.root).collect();
+    let bytes = prehensile_formats::simulation_glb(
+        Some((&mesh, &track)),
+        &[(&hand, &first), (&hand, &second)],
+    );
+    let gltf = gltf::Gltf::from_slice(&bytes).expect("a valid glTF");
+    let names: Vec<&str> = gltf.nodes().filter_map(|n| n.name()).collect();
+    assert!(names.contains(&"hand 1: index_distal") && names.contains(&"hand 2: index_distal"));
+    assert_eq!(gltf.nodes().count(), 1 + 2 * hand.bones().len());
+    let scene = gltf.scenes().next().unwrap();
+    assert_eq!(scene.nodes().count(), 3, "the object and each hand's root");
+    let animation = gltf.animations().next().expect("an animation");
+    // Per hand: every bone's rotation and the root's translation; the object: both.
+    assert_eq!(
+        animation.channels().count(),
+        2 * (hand.bones().len() + 1) + 2
+    );
+    let mut translated: Vec<usize> = animation
+        .channels()
+        .filter(|c| c.target().property() == gltf::animation::Property::Translation)
+        .map(|c| c.target().node().index())
+        .collect();
+    translated.sort();
+    assert_eq!(translated, [0, 1, 1 + hand.bones().len()]);
+}

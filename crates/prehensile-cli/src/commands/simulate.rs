@@ -83,26 +83,26 @@ pub fn run(args: &SimulateArgs) -> Result<i32, CliError> {
         }
     }
     println!("wrote {}", args.out.display());
-    if let Some((hand, frames)) = recording.hands.first() {
-        if let Some(path) = &args.glb {
-            let object = recording
-                .object
-                .as_ref()
-                .map(|(o, track)| (o.mesh(), &track[..]));
-            write(
-                path,
-                &prehensile_formats::simulation_glb(object, hand, frames),
-            )?;
-            println!("wrote {}", path.display());
-        }
-        if let Some(path) = &args.bvh {
-            let fps = options.settings.record_fps;
-            write(
-                path,
-                prehensile_formats::write_bvh(hand, frames, fps).as_bytes(),
-            )?;
-            println!("wrote {}", path.display());
-        }
+    if let Some(path) = &args.glb {
+        let object = recording
+            .object
+            .as_ref()
+            .map(|(o, track)| (o.mesh(), &track[..]));
+        let hands: Vec<_> = recording
+            .hands
+            .iter()
+            .map(|(hand, frames)| (hand, &frames[..]))
+            .collect();
+        write(path, &prehensile_formats::simulation_glb(object, &hands))?;
+        println!("wrote {}", path.display());
+    }
+    if let (Some(path), Some((hand, frames))) = (&args.bvh, recording.hands.first()) {
+        let fps = options.settings.record_fps;
+        write(
+            path,
+            prehensile_formats::write_bvh(hand, frames, fps).as_bytes(),
+        )?;
+        println!("wrote {}", path.display());
     }
     Ok(if report.finite { 0 } else { 1 })
 }

@@ -5,18 +5,31 @@
 
 use prehensile_control::Gains;
 use prehensile_core::math::{Rotation, Transform, Vec3};
+use prehensile_core::HandModel;
 
 use super::{case, recording, step_until, CaseReport, Options, PlannedGrasp, Recording, Scenario};
 use crate::arm_trajectory::{ArmTrajectory, Waypoint};
 use crate::simulation::{DistanceTo, HandSetup, Simulation};
 use crate::SimError;
 
-/// Palms apart when the hands meet, metres.
-const MEET: f64 = 0.045;
 /// Root offset along the fingers, metres, so each palm lies over the other.
 const ALONG: f64 = 0.09;
 /// Palms apart at the start, metres.
 const START: f64 = 0.3;
+/// Clearance between the palms' surfaces when the hands meet, metres.
+const GAP: f64 = 0.003;
+
+/// How far the palm's surface stands in front of the hand frame's origin (along +y, the palm
+/// side in our convention), metres: the root bone's capsules at their widest. Two hands meet
+/// with their roots twice this (plus [`GAP`]) apart, so the kinematic palms, which nothing can
+/// push apart, never overlap.
+fn palm_front(hand: &HandModel) -> f64 {
+    let root = &hand.bones()[0];
+    hand.bone_capsules(0)
+        .iter()
+        .flat_map(|c| [c.a, c.b].map(|p| (root.rest * p).y + c.radius))
+        .fold(0.0, f64::max)
+}
 
 pub(crate) fn run(
     options: &Options,
@@ -31,6 +44,7 @@ pub(crate) fn run(
     // Hand A: fingers to +x, palm to +y; hand B turned half round the vertical.
     let a = Rotation::from_axis_angle(&Vec3::y_axis(), std::f64::consts::FRAC_PI_2);
     let b = Rotation::from_axis_angle(&Vec3::z_axis(), std::f64::consts::PI) * a;
+    let meet = 2.0 * palm_front(hand) + GAP;
     let place = |r: Rotation, x: f64, y: f64| Transform::from_parts(Vec3::new(x, y, 0.0).into(), r);
     let path = |r: Rotation, x: f64, side: f64| {
         ArmTrajectory::new(vec![
@@ -40,11 +54,11 @@ pub(crate) fn run(
             },
             Waypoint {
                 time: 1.2,
-                root: place(r, x, side * MEET / 2.0),
+                root: place(r, x, side * meet / 2.0),
             },
             Waypoint {
                 time: 2.4,
-                root: place(r, x, side * MEET / 2.0),
+                root: place(r, x, side * meet / 2.0),
             },
             Waypoint {
                 time: 3.4,
@@ -52,7 +66,7 @@ pub(crate) fn run(
             },
         ])
     };
-    let contact = (ALONG * ALONG + MEET * MEET).sqrt();
+    let contact = (ALONG * ALONG + meet * meet).sqrt();
     let mut sim = Simulation::new(options.settings)?;
     for (k, (rotation, x, side)) in [(a, 0.0, -1.0), (b, ALONG, 1.0)].into_iter().enumerate() {
         let mut controller = poses.controller(hand, &options.settings.gravity)?;
