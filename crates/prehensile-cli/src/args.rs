@@ -106,7 +106,7 @@ pub struct FitArgs {
     #[arg(long)]
     pub motion: Option<PathBuf>,
     /// Without --motion: fit to the synthetic example of a grasp of this object found by the
-    /// search (written next to the controller as <out>.motion.json).
+    /// search (written next to the controller: controller.motion.json for controller.toml).
     #[arg(long, default_value = "sphere")]
     pub object: String,
     /// A built-in hand or a hand file.

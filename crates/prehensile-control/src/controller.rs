@@ -4,8 +4,9 @@
 //! gravity and arm-motion compensation by inverse dynamics (Eq. 2).
 //!
 //! `I` of Eq. 3 and 5 is taken per degree of freedom as the outboard inertia about its axis (the
-//! diagonal of the mass matrix): the paper's hand has ball joints, whose 3×3 blocks reduce to
-//! this for hinge axes.
+//! diagonal of the mass matrix). For a ball joint that is the diagonal of its 3×3 block (the
+//! inertia about each of the bone's own axes); the paper multiplies by the whole block, which
+//! [`crate::mass_matrix`] gives.
 
 use nalgebra::DVector;
 use prehensile_core::HandModel;
@@ -272,7 +273,7 @@ pub struct GraspController {
     /// A setpoint chosen by hand (Fig. 7's interactive open/close), overriding the state
     /// machine's blend while set; the grip setpoint (2) is extrapolated by α as in GRIPPING.
     pub manual_setpoint: Option<usize>,
-    /// Keep the hand open (B[1] = 1) through CLOSING, as the paper's grasps did (§7) "to keep
+    /// Keep the hand open (B\[1\] = 1) through CLOSING, as the paper's grasps did (§7) "to keep
     /// the hand from contacting the object too quickly"; it closes on GRIPPING.
     pub open_while_closing: bool,
 }

@@ -11,9 +11,6 @@ use prehensile_core::HandModel;
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum DynamicsError {
-    /// A joint kind the dynamics do not handle yet.
-    #[error("bone '{0}': ball joints are not supported by the dynamics yet (hinge, two-axis and fixed are)")]
-    UnsupportedJoint(String),
     /// A vector has the wrong length.
     #[error("{what} has {got} entries, the hand has {expected} degrees of freedom")]
     Length {
@@ -34,7 +31,9 @@ pub enum DynamicsError {
 
 /// One link of the dynamics chain. Every hinge bone is one link; a two-axis bone is two hinges
 /// in series (outer axis, then a massless link, then the inner axis carrying the bone's mass),
-/// exactly its rotation R = R(abduction)·R(flexion).
+/// exactly its rotation R = R(abduction)·R(flexion). A ball bone is three hinges about its own
+/// x, y and z axes at the current rotation (two massless links, then the bone): their rates are
+/// the components of the bone's angular velocity relative to its parent, in the bone's frame.
 pub(crate) struct Link {
     /// Rotation from the parent link's frame to this link's.
     pub to_bone: Matrix3<f64>,
@@ -48,6 +47,19 @@ pub(crate) struct Link {
     pub parent: Option<usize>,
     /// Mass properties carried by this link.
     pub inertial: Option<Inertial>,
+    /// For the last link of a ball joint, the joint's first degree of freedom: the three hinges
+    /// in series add velocity products a single spherical joint does not have (see
+    /// [`ball_acceleration_correction`]).
+    pub ball: Option<usize>,
+}
+
+/// What three hinges about x, y, z in series add to the angular acceleration of a body turning
+/// at `w` (bone frame) relative to its parent, beyond a spherical joint's: each hinge's rate
+/// crossed with the later hinges' axes, w_x w_y e_z − w_x w_z e_y + w_y w_z e_x. Subtracting it
+/// makes the three rates the bone's relative angular velocity, whose derivative is the joint
+/// acceleration.
+fn ball_acceleration_correction(w: &[f64]) -> Vec3 {
+    Vec3::new(w[1] * w[2], -w[0] * w[2], w[0] * w[1])
 }
 
 pub(crate) fn links(hand: &HandModel, q: &[f64]) -> Result<Vec<Link>, DynamicsError> {
@@ -67,6 +79,7 @@ pub(crate) fn links(hand: &HandModel, q: &[f64]) -> Result<Vec<Link>, DynamicsEr
                 dof: None,
                 parent,
                 inertial: bone.inertial,
+                ball: None,
             }),
             Joint::Hinge(a) => out.push(Link {
                 to_bone: to(bone.rest.rotation * rotate(&a.axis, q[bone.first_dof])),
@@ -75,6 +88,7 @@ pub(crate) fn links(hand: &HandModel, q: &[f64]) -> Result<Vec<Link>, DynamicsEr
                 dof: Some(bone.first_dof),
                 parent,
                 inertial: bone.inertial,
+                ball: None,
             }),
             Joint::TwoAxis { flexion, abduction } => {
                 out.push(Link {
@@ -84,6 +98,7 @@ pub(crate) fn links(hand: &HandModel, q: &[f64]) -> Result<Vec<Link>, DynamicsEr
                     dof: Some(bone.first_dof + 1),
                     parent,
                     inertial: None,
+                    ball: None,
                 });
                 out.push(Link {
                     to_bone: to(rotate(&flexion.axis, q[bone.first_dof])),
@@ -92,9 +107,32 @@ pub(crate) fn links(hand: &HandModel, q: &[f64]) -> Result<Vec<Link>, DynamicsEr
                     dof: Some(bone.first_dof),
                     parent: Some(out.len() - 1),
                     inertial: bone.inertial,
+                    ball: None,
                 });
             }
-            Joint::Ball { .. } => return Err(DynamicsError::UnsupportedJoint(bone.name.clone())),
+            Joint::Ball { .. } => {
+                let turn = bone.joint.rotation(&q[bone.first_dof..bone.first_dof + 3]);
+                for (k, axis) in [Vec3::x(), Vec3::y(), Vec3::z()].into_iter().enumerate() {
+                    let (to_bone, origin, parent) = if k == 0 {
+                        (
+                            to(bone.rest.rotation * turn),
+                            bone.rest.translation.vector,
+                            parent,
+                        )
+                    } else {
+                        (Matrix3::identity(), Vec3::zeros(), Some(out.len() - 1))
+                    };
+                    out.push(Link {
+                        to_bone,
+                        origin,
+                        axis,
+                        dof: Some(bone.first_dof + k),
+                        parent,
+                        inertial: if k == 2 { bone.inertial } else { None },
+                        ball: (k == 2).then_some(bone.first_dof),
+                    });
+                }
+            }
         }
         carrier[k] = out.len() - 1;
     }
@@ -145,6 +183,10 @@ impl BaseMotion {
 
 /// Joint torques that produce accelerations `qdd` at positions `q` and velocities `qd`, with the
 /// root bone fixed and `gravity` given in the root bone's frame (m/s²).
+///
+/// For a ball joint, `q` is its rotation vector (axis × angle, as in Pollard & Zordan), its
+/// three entries of `qd` are the bone's angular velocity relative to its parent in the bone's
+/// frame, those of `qdd` that velocity's rate, and its torques are about the bone's own axes.
 pub fn inverse_dynamics(
     hand: &HandModel,
     q: &[f64],
@@ -195,6 +237,9 @@ pub fn inverse_dynamics_moving_base(
                 let (wp, dwp, ap) = (w[p], dw[p], a[p]);
                 w[i] = l.to_bone * wp + l.axis * rate;
                 dw[i] = l.to_bone * dwp + l.axis * accel + w[i].cross(&(l.axis * rate));
+                if let Some(first) = l.ball {
+                    dw[i] -= ball_acceleration_correction(&qd[first..first + 3]);
+                }
                 a[i] = l.to_bone * (ap + dwp.cross(&l.origin) + wp.cross(&wp.cross(&l.origin)));
             }
         }

@@ -75,7 +75,9 @@ fn subspace(link: &Link) -> Vector6<f64> {
     Vector6::new(a.x, a.y, a.z, 0.0, 0.0, 0.0)
 }
 
-/// M(q): torques per unit joint acceleration, symmetric.
+/// M(q): torques per unit joint acceleration, symmetric. A ball joint's 3×3 block is the inertia
+/// of everything outboard of it about the joint, in the bone's frame (the paper's `I` for a
+/// ball joint; see [`crate::inverse_dynamics`] for its coordinates).
 pub fn mass_matrix(hand: &HandModel, q: &[f64]) -> Result<DMatrix<f64>, DynamicsError> {
     let Composite {
         links,

@@ -337,7 +337,7 @@ pub fn check_hand(hand: &HandModel) -> Result<(), crate::SimError> {
     for bone in hand.bones() {
         if matches!(bone.joint, Joint::Ball { .. }) {
             return Err(crate::SimError::Hand(format!(
-                "bone '{}' has a ball joint; the simulation and dynamics handle hinge and two-axis joints",
+                "bone '{}' has a ball joint; the simulation handles hinge and two-axis joints (the dynamics and controller handle ball joints too)",
                 bone.name
             )));
         }

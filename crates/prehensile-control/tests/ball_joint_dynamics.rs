@@ -1,0 +1,195 @@
+//! Ball joints in the dynamics, checked without the dynamics: a ball joint's three rates are the
+//! bone's angular velocity relative to its parent, in the bone's frame (its position is the
+//! rotation vector). Kinetic energy against finite differences of the poses, gravity torques
+//! against the gradient of the potential energy, Euler's equation for a ball-jointed bone with
+//! the rest of the hand still, and power: the torques' power is the kinetic energy's rate.
+
+use nalgebra::DVector;
+use prehensile_control::{gravity_torques, inverse_dynamics, mass_matrix, outboard_inertia};
+use prehensile_core::hand::Joint;
+use prehensile_core::math::{Rotation, Transform, Vec3};
+use prehensile_core::HandModel;
+
+/// The three-finger robot hand with the first two finger joints made ball joints.
+fn ball_hand() -> HandModel {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(dir.join("../../assets/hands/robot3.toml")).unwrap();
+    let hand = prehensile_formats::parse_hand_toml(
+        &text.replacen(
+            "joint = { kind = \"hinge\", flexion = [0.0, 90.0] }",
+            "joint = { kind = \"ball\", limits = [[-60.0, 60.0], [-60.0, 60.0], [-60.0, 60.0]] }",
+            2,
+        ),
+        "ball.toml",
+    )
+    .unwrap();
+    let balls = hand
+        .bones()
+        .iter()
+        .filter(|b| matches!(b.joint, Joint::Ball { .. }))
+        .count();
+    assert_eq!(balls, 2);
+    hand
+}
+
+/// Bone rotations after moving for `t` seconds at rates `v` from `q`: hinges turn by t·v, ball
+/// joints by exp(t·ω) on the right (ω in the bone's frame).
+fn rotations_after(hand: &HandModel, q: &[f64], v: &[f64], t: f64) -> Vec<Rotation> {
+    hand.bones()
+        .iter()
+        .map(|bone| {
+            let d = bone.first_dof..bone.first_dof + bone.joint.dofs();
+            match bone.joint {
+                Joint::Ball { .. } => {
+                    let w = Vec3::from_column_slice(&v[d.clone()]);
+                    bone.joint.rotation(&q[d]) * Rotation::from_scaled_axis(w * t)
+                }
+                _ => {
+                    let moved: Vec<f64> = d.map(|k| q[k] + t * v[k]).collect();
+                    bone.joint.rotation(&moved)
+                }
+            }
+        })
+        .collect()
+}
+
+/// Joint positions of bone rotations.
+fn positions(hand: &HandModel, rotations: &[Rotation]) -> Vec<f64> {
+    let mut q = vec![0.0; hand.dof_count()];
+    for (bone, r) in hand.bones().iter().zip(rotations) {
+        let n = bone.joint.dofs();
+        bone.joint
+            .angles(r, &mut q[bone.first_dof..bone.first_dof + n]);
+    }
+    q
+}
+
+fn state(hand: &HandModel, seed: u64, spread: f64) -> Vec<f64> {
+    let mut rng = prehensile_core::search::random::SplitMix64::new(seed);
+    (0..hand.dof_count())
+        .map(|_| rng.uniform(-spread, spread))
+        .collect()
+}
+
+fn kinetic_energy_from_motion(hand: &HandModel, q: &[f64], v: &[f64]) -> f64 {
+    let h = 1e-6;
+    let at = |t: f64| hand.pose_transforms(&Transform::identity(), &rotations_after(hand, q, v, t));
+    let (plus, minus, now) = (at(h), at(-h), at(0.0));
+    let mut energy = 0.0;
+    for (k, bone) in hand.bones().iter().enumerate() {
+        let Some(i) = bone.inertial else { continue };
+        let com = |t: &Transform| t * i.center_of_mass;
+        let velocity = (com(&plus[k]) - com(&minus[k])) / (2.0 * h);
+        let turn = plus[k].rotation * minus[k].rotation.inverse();
+        let omega = now[k].rotation.inverse() * (turn.scaled_axis() / (2.0 * h));
+        energy += 0.5 * i.mass * velocity.norm_squared() + 0.5 * omega.dot(&(i.inertia * omega));
+    }
+    energy
+}
+
+#[test]
+fn kinetic_energy_and_gravity_match_the_poses() {
+    let hand = ball_hand();
+    let g = Vec3::new(0.3, -9.7, 1.2);
+    let potential = |rotations: &[Rotation]| -> f64 {
+        hand.pose_transforms(&Transform::identity(), rotations)
+            .iter()
+            .zip(hand.bones())
+            .filter_map(|(t, b)| {
+                b.inertial
+                    .map(|i| -i.mass * g.dot(&(t * i.center_of_mass).coords))
+            })
+            .sum()
+    };
+    for seed in 1..=5 {
+        let (q, v) = (state(&hand, seed, 0.8), state(&hand, seed + 100, 2.0));
+        let m = mass_matrix(&hand, &q).unwrap();
+        let v_column = DVector::from_column_slice(&v);
+        let from_matrix = 0.5 * v_column.dot(&(&m * &v_column));
+        let from_motion = kinetic_energy_from_motion(&hand, &q, &v);
+        assert!(
+            (from_matrix - from_motion).abs() <= 1e-6 * from_motion,
+            "seed {seed}: {from_matrix} vs {from_motion}"
+        );
+        assert!((&m - m.transpose()).amax() < 1e-15);
+        let diagonal = outboard_inertia(&hand, &q).unwrap();
+        assert!((0..q.len()).all(|k| (diagonal[k] - m[(k, k)]).abs() <= 1e-15 * m.amax()));
+
+        let tau = gravity_torques(&hand, &q, g).unwrap();
+        for k in 0..q.len() {
+            let mut unit = vec![0.0; q.len()];
+            unit[k] = 1.0;
+            let h = 1e-6;
+            let gradient = (potential(&rotations_after(&hand, &q, &unit, h))
+                - potential(&rotations_after(&hand, &q, &unit, -h)))
+                / (2.0 * h);
+            assert!(
+                (tau[k] - gradient).abs() <= 1e-6 * tau.amax(),
+                "seed {seed} dof {k}: {} vs {gradient}",
+                tau[k]
+            );
+        }
+    }
+}
+
+#[test]
+fn a_ball_jointed_bone_obeys_eulers_equation() {
+    let hand = ball_hand();
+    let ball = hand
+        .bones()
+        .iter()
+        .find(|b| matches!(b.joint, Joint::Ball { .. }))
+        .unwrap()
+        .first_dof;
+    for seed in 1..=5 {
+        let q = state(&hand, seed, 0.8);
+        let (w, dw) = (
+            Vec3::from_column_slice(&state(&hand, seed + 10, 3.0)[..3]),
+            Vec3::from_column_slice(&state(&hand, seed + 20, 3.0)[..3]),
+        );
+        let (mut v, mut a) = (vec![0.0; q.len()], vec![0.0; q.len()]);
+        v[ball..ball + 3].copy_from_slice(w.as_slice());
+        a[ball..ball + 3].copy_from_slice(dw.as_slice());
+        // The bone and everything outboard of it turn as one body about the joint: its inertia
+        // there is the mass matrix's 3×3 block.
+        let block = mass_matrix(&hand, &q)
+            .unwrap()
+            .fixed_view::<3, 3>(ball, ball)
+            .into_owned();
+        let euler = block * dw + w.cross(&(block * w));
+        let tau = inverse_dynamics(&hand, &q, &v, &a, Vec3::zeros()).unwrap();
+        for k in 0..3 {
+            assert!(
+                (tau[ball + k] - euler[k]).abs() <= 1e-12 * euler.amax(),
+                "seed {seed} axis {k}: {} vs {}",
+                tau[ball + k],
+                euler[k]
+            );
+        }
+    }
+}
+
+#[test]
+fn the_torques_power_is_the_rate_of_kinetic_energy() {
+    let hand = ball_hand();
+    for seed in 1..=5 {
+        let (q, v, a) = (
+            state(&hand, seed, 0.8),
+            state(&hand, seed + 100, 2.0),
+            state(&hand, seed + 200, 5.0),
+        );
+        let energy = |t: f64| {
+            let q = positions(&hand, &rotations_after(&hand, &q, &v, t));
+            let v = DVector::from_iterator(v.len(), v.iter().zip(&a).map(|(v, a)| v + t * a));
+            0.5 * v.dot(&(mass_matrix(&hand, &q).unwrap() * &v))
+        };
+        let h = 1e-6;
+        let rate = (energy(h) - energy(-h)) / (2.0 * h);
+        let tau = inverse_dynamics(&hand, &q, &v, &a, Vec3::zeros()).unwrap();
+        let power = tau.dot(&DVector::from_column_slice(&v));
+        assert!(
+            (power - rate).abs() <= 1e-6 * rate.abs(),
+            "seed {seed}: power {power} vs energy rate {rate}"
+        );
+    }
+}
