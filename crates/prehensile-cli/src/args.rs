@@ -77,7 +77,8 @@ pub struct SimulateArgs {
     /// Simulated seconds per case (default: the scenario's own).
     #[arg(long)]
     pub seconds: Option<f64>,
-    /// Solver substeps per step (default: one per 0.25 ms of step, so 1 at 0.2 ms, 4 at 1 ms).
+    /// Solver substeps per step (default: one per 0.25 ms of step and at least 2, so 2 at 0.2 ms,
+    /// 4 at 1 ms).
     #[arg(long)]
     pub iterations: Option<usize>,
     /// Friction coefficient.

@@ -49,7 +49,7 @@ impl Default for Settings {
 
 impl Settings {
     /// The solver substeps for a step of `dt` seconds: one per 0.25 ms and at least two, so
-    /// 2 at the paper's 0.2 ms and 4 at 1 ms. At 0.2 ms one substep is 1.7× faster than two but
+    /// 2 at the paper's 0.2 ms and 4 at 1 ms. At 0.2 ms one substep is 1.3–1.7× faster than two but
     /// lost the sphere in the open/close scenario and at α 0, and four are 1.5× slower for the
     /// same outcomes (docs/PERFORMANCE.md).
     pub fn iterations_for(dt: f64) -> usize {
