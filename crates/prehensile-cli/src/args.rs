@@ -58,7 +58,7 @@ pub struct SimulateArgs {
     /// drop, grasp, grip-sweep, handshake, open-close or shake.
     #[arg(long, default_value = "grasp")]
     pub scenario: String,
-    /// A built-in hand or a hand file (hinge and two-axis joints).
+    /// A built-in hand or a hand file (hinge, two-axis and ball joints; moving bones need mass).
     #[arg(long, default_value = "human")]
     pub hand: String,
     /// Objects (comma-separated built-in names or mesh files); `grasp` grasps each with the

@@ -56,10 +56,12 @@ pub fn fit_active(
             a[(t - 1, j)] = gains.k_s * blends[t][j];
             a[(t - 1, 6 + j)] = gains.k_d * blends[t][j];
         }
+        let driving: Vec<f64> = (0..n)
+            .map(|k| tau[k] - compensation[k] - passive[k])
+            .collect();
+        let unit = inertia.solve(&driving);
         for k in 0..n {
-            b[(t - 1, k)] = gains.k_s * q[t][k]
-                + gains.k_d * qd[k]
-                + (tau[k] - compensation[k] - passive[k]) / inertia[k];
+            b[(t - 1, k)] = gains.k_s * q[t][k] + gains.k_d * qd[k] + unit[k];
         }
     }
     let svd = a.svd(true, true);

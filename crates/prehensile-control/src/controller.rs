@@ -3,16 +3,15 @@
 //! setpoints blended by state and distance (Eq. 5–12, Fig. 3), grip strength α (Eq. 15–16), plus
 //! gravity and arm-motion compensation by inverse dynamics (Eq. 2).
 //!
-//! `I` of Eq. 3 and 5 is taken per degree of freedom as the outboard inertia about its axis (the
-//! diagonal of the mass matrix). For a ball joint that is the diagonal of its 3×3 block (the
-//! inertia about each of the bone's own axes); the paper multiplies by the whole block, which
-//! [`crate::mass_matrix`] gives.
+//! `I` of Eq. 3 and 5 is [`OutboardInertia`]: for a hinge the outboard inertia about its axis,
+//! for a ball joint the whole 3×3 block, as in the paper (the bracketed terms, per unit
+//! inertia, are computed per degree of freedom and then multiplied by `I`).
 
 use nalgebra::DVector;
 use prehensile_core::HandModel;
 
 use crate::inverse_dynamics::{inverse_dynamics_moving_base, BaseMotion, DynamicsError};
-use crate::mass_matrix::outboard_inertia;
+use crate::mass_matrix::{outboard_inertia, OutboardInertia};
 
 /// Gains and distances (Pollard & Zordan, Table 1).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -151,13 +150,13 @@ pub struct Setpoints {
 /// Passive torque, Eq. 3: τP = I (k_S (θ_N − θ) + k_JL (θ_L − θ) − k_D θ̇), the limit term only
 /// outside the range.
 pub fn passive_torque(
-    inertia: &[f64],
+    inertia: &OutboardInertia,
     q: &[f64],
     qd: &[f64],
     s: &Setpoints,
     g: &Gains,
 ) -> Vec<f64> {
-    (0..q.len())
+    let unit: Vec<f64> = (0..q.len())
         .map(|k| {
             let [lo, hi] = s.limits[k];
             let outside = if q[k] < lo {
@@ -167,27 +166,29 @@ pub fn passive_torque(
             } else {
                 0.0
             };
-            inertia[k] * (g.k_s * (s.neutral[k] - q[k]) + g.k_jl * outside - g.k_d * qd[k])
+            g.k_s * (s.neutral[k] - q[k]) + g.k_jl * outside - g.k_d * qd[k]
         })
-        .collect()
+        .collect();
+    inertia.times(&unit)
 }
 
 /// Active torque, Eq. 5–7: τA = I (k_S (B·P_S − θ) + k_D (B·P_D − θ̇)).
 pub fn active_torque(
-    inertia: &[f64],
+    inertia: &OutboardInertia,
     q: &[f64],
     qd: &[f64],
     s: &Setpoints,
     blend: &[f64; 6],
     g: &Gains,
 ) -> Vec<f64> {
-    (0..q.len())
+    let unit: Vec<f64> = (0..q.len())
         .map(|k| {
             let target: f64 = (0..6).map(|j| blend[j] * s.positions[j][k]).sum();
             let rate: f64 = (0..6).map(|j| blend[j] * s.velocities[j][k]).sum();
-            inertia[k] * (g.k_s * (target - q[k]) + g.k_d * (rate - qd[k]))
+            g.k_s * (target - q[k]) + g.k_d * (rate - qd[k])
         })
-        .collect()
+        .collect();
+    inertia.times(&unit)
 }
 
 /// One degree of freedom's control law in implicit form: τ = stiffness·(target − θ) +
@@ -214,9 +215,10 @@ impl JointSpring {
 
 /// τP + τA (Eq. 3 and 5) of every degree of freedom as one spring each: both laws are linear in θ
 /// and θ̇, so their sum is a single spring with the summed stiffness and the stiffness-weighted
-/// target. With `active` false only τP remains (the drop test).
+/// target. With `active` false only τP remains (the drop test). The springs carry the diagonal of
+/// `I`; a ball joint's cross terms are [`ball_joint_coupling`].
 pub fn joint_springs(
-    inertia: &[f64],
+    inertia: &OutboardInertia,
     q: &[f64],
     s: &Setpoints,
     blend: &[f64; 6],
@@ -248,13 +250,37 @@ pub fn joint_springs(
                 rate += g.k_d * (0..6).map(|j| blend[j] * s.velocities[j][k]).sum::<f64>();
             }
             JointSpring {
-                stiffness: inertia[k] * stiffness,
-                damping: inertia[k] * damping,
+                stiffness: inertia.diagonal[k] * stiffness,
+                damping: inertia.diagonal[k] * damping,
                 target: pull / stiffness,
                 target_velocity: if damping > 0.0 { rate / damping } else { 0.0 },
             }
         })
         .collect()
+}
+
+/// The torques the springs of [`joint_springs`] leave out at `q`, `qd`: the cross terms of every
+/// ball joint's 3×3 inertia block (zero for hinges), so springs plus coupling give the paper's
+/// `I·(…)` with the whole block.
+pub fn ball_joint_coupling(
+    inertia: &OutboardInertia,
+    springs: &[JointSpring],
+    q: &[f64],
+    qd: &[f64],
+) -> Vec<f64> {
+    let unit: Vec<f64> = springs
+        .iter()
+        .zip(&inertia.diagonal)
+        .enumerate()
+        .map(|(k, (s, i))| {
+            if *i > 0.0 {
+                s.torque(q[k], qd[k]) / i
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    inertia.coupling(&unit)
 }
 
 /// The controller: state, setpoints, gains and grip strength.

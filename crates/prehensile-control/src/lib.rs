@@ -21,8 +21,8 @@ mod passive_fitting;
 
 pub use active_fitting::fit_active;
 pub use controller::{
-    active_torque, joint_springs, passive_torque, Gains, GraspController, GraspState, JointSpring,
-    Setpoints,
+    active_torque, ball_joint_coupling, joint_springs, passive_torque, Gains, GraspController,
+    GraspState, JointSpring, Setpoints,
 };
 pub use controller_fitting::{
     fit_controller, ControllerFile, GainsRecord, SetpointRecord, CONTROLLER_SCHEMA, SETPOINT_NAMES,
@@ -32,5 +32,5 @@ pub use forward_dynamics::forward_dynamics;
 pub use inverse_dynamics::{
     gravity_torques, inverse_dynamics, inverse_dynamics_moving_base, BaseMotion, DynamicsError,
 };
-pub use mass_matrix::{mass_matrix, outboard_inertia};
+pub use mass_matrix::{mass_matrix, outboard_inertia, OutboardInertia};
 pub use passive_fitting::fit_passive;

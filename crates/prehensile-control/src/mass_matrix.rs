@@ -103,17 +103,69 @@ pub fn mass_matrix(hand: &HandModel, q: &[f64]) -> Result<DMatrix<f64>, Dynamics
     Ok(m)
 }
 
-/// The outboard inertia of every degree of freedom about its joint (the diagonal of M): the
-/// inertia of all bodies outboard of a hinge about its axis, Pollard & Zordan's `I` (Eq. 3, 5).
-/// Computed from the composite inertias alone, without the rest of M (the simulation calls it
-/// every step).
-pub fn outboard_inertia(hand: &HandModel, q: &[f64]) -> Result<Vec<f64>, DynamicsError> {
+/// The outboard inertia of every joint, Pollard & Zordan's `I` (Eq. 3, 5): for a hinge the
+/// inertia of all bodies outboard of it about its axis (the diagonal of M), for a ball joint the
+/// 3×3 block of M (their inertia about the joint, in the bone's frame).
+#[derive(Debug, Clone, PartialEq)]
+pub struct OutboardInertia {
+    /// Per degree of freedom, the diagonal of M: a hinge's whole `I`.
+    pub diagonal: Vec<f64>,
+    /// Every ball joint's first degree of freedom and its 3×3 block.
+    pub balls: Vec<(usize, Matrix3<f64>)>,
+}
+
+impl OutboardInertia {
+    /// `I·u`: joint torques from torques per unit inertia `u` (the control laws' bracketed
+    /// terms), each ball joint's block applied whole.
+    pub fn times(&self, u: &[f64]) -> Vec<f64> {
+        let mut tau: Vec<f64> = self.diagonal.iter().zip(u).map(|(i, u)| i * u).collect();
+        for (first, block) in &self.balls {
+            let t = block * Vec3::from_column_slice(&u[*first..first + 3]);
+            tau[*first..first + 3].copy_from_slice(t.as_slice());
+        }
+        tau
+    }
+
+    /// `I⁻¹·τ`: the torques per unit inertia that give joint torques `tau` (a ball joint's block
+    /// is positive definite whenever its bone has mass).
+    pub fn solve(&self, tau: &[f64]) -> Vec<f64> {
+        let mut u: Vec<f64> = self.diagonal.iter().zip(tau).map(|(i, t)| t / i).collect();
+        for (first, block) in &self.balls {
+            let t = Vec3::from_column_slice(&tau[*first..first + 3]);
+            if let Some(x) = block.cholesky().map(|c| c.solve(&t)) {
+                u[*first..first + 3].copy_from_slice(x.as_slice());
+            }
+        }
+        u
+    }
+
+    /// `I·u` minus its diagonal part: the cross terms of the ball joints' blocks (zero for
+    /// hinges). A simulation that integrates each degree of freedom's diagonal spring implicitly
+    /// adds these as torques.
+    pub fn coupling(&self, u: &[f64]) -> Vec<f64> {
+        let mut tau = self.times(u);
+        for ((t, i), u) in tau.iter_mut().zip(&self.diagonal).zip(u) {
+            *t -= i * u;
+        }
+        tau
+    }
+}
+
+/// The outboard inertia of every joint at pose `q` (see [`OutboardInertia`]). Computed from the
+/// composite inertias alone, without the rest of M (the simulation calls it every step).
+pub fn outboard_inertia(hand: &HandModel, q: &[f64]) -> Result<OutboardInertia, DynamicsError> {
     let composite = composite_inertias(hand, q)?;
     let mut diagonal = vec![0.0; hand.dof_count()];
+    let mut balls = Vec::new();
     for (link, inertia) in composite.links.iter().zip(&composite.inertias) {
         if let Some(d) = link.dof {
             diagonal[d] = subspace(link).dot(&(inertia * subspace(link)));
         }
+        // The three links of a ball joint share the bone's frame and only the last has mass,
+        // so the last one's composite inertia is the whole joint's; its axes are the bone's.
+        if let Some(first) = link.ball {
+            balls.push((first, inertia.fixed_view::<3, 3>(0, 0).into_owned()));
+        }
     }
-    Ok(diagonal)
+    Ok(OutboardInertia { diagonal, balls })
 }

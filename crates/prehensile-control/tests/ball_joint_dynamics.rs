@@ -112,8 +112,36 @@ fn kinetic_energy_and_gravity_match_the_poses() {
             "seed {seed}: {from_matrix} vs {from_motion}"
         );
         assert!((&m - m.transpose()).amax() < 1e-15);
-        let diagonal = outboard_inertia(&hand, &q).unwrap();
-        assert!((0..q.len()).all(|k| (diagonal[k] - m[(k, k)]).abs() <= 1e-15 * m.amax()));
+        // The paper's I: the diagonal of M, and each ball joint's whole 3×3 block of it.
+        let inertia = outboard_inertia(&hand, &q).unwrap();
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-14 * m.amax();
+        assert!((0..q.len()).all(|k| close(inertia.diagonal[k], m[(k, k)])));
+        assert_eq!(inertia.balls.len(), 2);
+        for (first, block) in &inertia.balls {
+            let from_m = m.fixed_view::<3, 3>(*first, *first);
+            assert!(
+                (block - from_m).amax() <= 1e-14 * m.amax(),
+                "{block} vs {from_m}"
+            );
+        }
+        // The base joint's block has cross terms (its bent child); the tip's is diagonal.
+        let (_, base) = inertia.balls[0];
+        let cross = base[(0, 1)].abs() + base[(0, 2)].abs() + base[(1, 2)].abs();
+        assert!(cross > 1e-3 * base.trace(), "no cross terms in {base}");
+        // I·u multiplies each ball block whole and I⁻¹ undoes it; the coupling is the rest.
+        let u: Vec<f64> = (0..q.len()).map(|k| (k as f64 * 0.7).sin()).collect();
+        let times = inertia.times(&u);
+        let coupling = inertia.coupling(&u);
+        for (first, block) in &inertia.balls {
+            let expected = block * Vec3::from_column_slice(&u[*first..first + 3]);
+            for a in 0..3 {
+                let k = first + a;
+                assert!(close(times[k], expected[a]));
+                assert!(close(coupling[k], expected[a] - inertia.diagonal[k] * u[k]));
+            }
+        }
+        let back = inertia.solve(&times);
+        assert!((0..q.len()).all(|k| (back[k] - u[k]).abs() < 1e-9));
 
         let tau = gravity_torques(&hand, &q, g).unwrap();
         for k in 0..q.len() {

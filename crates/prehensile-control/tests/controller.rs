@@ -2,7 +2,7 @@
 
 use prehensile_control::{
     active_torque, gravity_torques, outboard_inertia, passive_torque, BaseMotion, Gains,
-    GraspController, GraspState, Setpoints,
+    GraspController, GraspState, OutboardInertia, Setpoints,
 };
 use prehensile_core::math::Vec3;
 
@@ -88,7 +88,10 @@ fn the_state_machine_runs_a_whole_grasp_and_release() {
 fn passive_torque_pulls_to_neutral_and_limits_act_only_outside() {
     let g = Gains::grasp();
     let s = setpoints(3);
-    let inertia = [2e-6, 1e-6, 5e-7];
+    let inertia = OutboardInertia {
+        diagonal: vec![2e-6, 1e-6, 5e-7],
+        balls: Vec::new(),
+    };
     // At neutral and at rest: no torque.
     assert_eq!(
         passive_torque(&inertia, &[0.2; 3], &[0.0; 3], &s, &g),
@@ -97,7 +100,11 @@ fn passive_torque_pulls_to_neutral_and_limits_act_only_outside() {
     // Inside the limits only the neutral spring and damping act; Eq. 4: τ/I is the same
     // acceleration change at every joint.
     let tau = passive_torque(&inertia, &[0.5; 3], &[1.0; 3], &s, &g);
-    let accel: Vec<f64> = tau.iter().zip(&inertia).map(|(t, i)| t / i).collect();
+    let accel: Vec<f64> = tau
+        .iter()
+        .zip(&inertia.diagonal)
+        .map(|(t, i)| t / i)
+        .collect();
     assert!(
         accel
             .iter()
@@ -106,11 +113,13 @@ fn passive_torque_pulls_to_neutral_and_limits_act_only_outside() {
     );
     // Beyond the upper limit the limit spring adds k_JL (θ_L − θ).
     let over = passive_torque(&inertia, &[1.1; 3], &[0.0; 3], &s, &g);
-    assert!((over[0] / inertia[0] - (200.0 * (0.2 - 1.1) + 5000.0 * (1.0 - 1.1))).abs() < 1e-9);
+    assert!(
+        (over[0] / inertia.diagonal[0] - (200.0 * (0.2 - 1.1) + 5000.0 * (1.0 - 1.1))).abs() < 1e-9
+    );
     // Active torque toward the blended setpoint.
     let blend = GraspState::Closing.blend(0.025, 0.0, &g);
     let active = active_torque(&inertia, &[0.0; 3], &[0.0; 3], &s, &blend, &g);
-    assert!((active[1] / inertia[1] - 200.0 * 0.15).abs() < 1e-9);
+    assert!((active[1] / inertia.diagonal[1] - 200.0 * 0.15).abs() < 1e-9);
 }
 
 #[test]
@@ -153,6 +162,7 @@ fn the_controller_adds_compensation_by_inverse_dynamics() {
     assert!(off.amax() < 1e-15);
     assert!(outboard_inertia(&hand, &q)
         .unwrap()
+        .diagonal
         .iter()
         .all(|i| *i > 0.0));
     assert!(controller
@@ -266,7 +276,10 @@ fn joint_springs_are_the_passive_plus_active_torque() {
     let n = 4;
     let mut s = setpoints(n);
     s.velocities[2] = vec![0.3; n];
-    let inertia = [1e-4, 2e-5, 3e-6, 5e-7];
+    let inertia = OutboardInertia {
+        diagonal: vec![1e-4, 2e-5, 3e-6, 5e-7],
+        balls: Vec::new(),
+    };
     // Inside the range, below it and above it (limit springs act outside only).
     let q = [0.5, -0.2, 1.3, 0.9];
     let qd = [0.1, -2.0, 0.5, 0.0];

@@ -4,11 +4,14 @@
 //!
 //! Design (measured against the alternatives, see docs/PERFORMANCE.md): impulse joints rather
 //! than reduced-coordinate multibodies (several times faster in rapier 0.36, and multibodies
-//! panic on two-axis joints); every degree of freedom is a revolute joint whose motor carries
-//! the controller's τP + τA as an implicit spring ([`prehensile_control::joint_springs`]), so the
+//! panic on two-axis joints); every degree of freedom is a joint motor that carries the
+//! controller's τP + τA as an implicit spring ([`prehensile_control::joint_springs`]), so the
 //! stiff limit springs integrate stably at millisecond steps; τG + τARM are applied as the
-//! equivalent wrench on each body ([`crate::holding_wrench`]). A two-axis bone becomes two revolute joints in series
-//! through a small intermediate body (R = R(abduction)·R(flexion), as in the model).
+//! equivalent wrench on each body ([`crate::holding_wrench`]). A hinge is a revolute joint; a
+//! two-axis bone becomes two revolute joints in series through a small intermediate body
+//! (R = R(abduction)·R(flexion), as in the model); a ball joint is a spherical joint with a motor
+//! about each of the bone's axes, the cross terms of its 3×3 inertia added as torques
+//! ([`prehensile_control::ball_joint_coupling`]).
 
 use prehensile_core::hand::{Inertial, Joint};
 use prehensile_core::math::{Point3, Rotation, Transform, Vec3};
@@ -28,7 +31,8 @@ use crate::holding_wrench::{holding_wrench, FrameMotion};
 /// Its weight and inertia are compensated like the bones' (see [`crate::holding_wrench`]).
 pub const INTERMEDIATE_MASS_FRACTION: f64 = 1.0;
 
-/// One controlled degree of freedom: a revolute joint between two bodies.
+/// One controlled degree of freedom: a revolute joint between two bodies, or one axis of a
+/// spherical joint.
 #[derive(Debug, Clone, Copy)]
 struct DofJoint {
     joint: ImpulseJointHandle,
@@ -36,6 +40,11 @@ struct DofJoint {
     child: RigidBodyHandle,
     /// The joint axis in the child body's frame.
     axis_in_child: Vector,
+    /// The motor's axis (`AngX` for a revolute joint).
+    motor: JointAxis,
+    /// For a spherical joint, the bone's rest rotation in its parent (the joint's first body is
+    /// the child, so that its motors turn about the bone's own axes as the controller's do).
+    ball_rest: Option<Quat>,
 }
 
 /// A hand in a rapier world.
@@ -181,7 +190,24 @@ impl ArticulatedHand {
                     dofs.push(abd);
                 }
                 Joint::Ball { .. } => {
-                    unreachable!("ball joints are refused by ArticulatedHand::check")
+                    let joint =
+                        world
+                            .impulse_joints
+                            .insert(body, parent_body, spherical(rest), true);
+                    for (motor, axis_in_child) in [
+                        (JointAxis::AngX, Vector::X),
+                        (JointAxis::AngY, Vector::Y),
+                        (JointAxis::AngZ, Vector::Z),
+                    ] {
+                        dofs.push(DofJoint {
+                            joint,
+                            parent: parent_body,
+                            child: body,
+                            axis_in_child,
+                            motor,
+                            ball_rest: Some(rest.rotation),
+                        });
+                    }
                 }
             }
         }
@@ -244,24 +270,51 @@ impl ArticulatedHand {
         }
     }
 
-    /// Clears last step's forces and sets every joint's motor to its spring (stiffness,
-    /// damping, target): the implicit τP + τA.
-    pub fn drive(&self, world: &mut PhysicsWorld, springs: &[prehensile_control::JointSpring]) {
+    /// Clears last step's forces, sets every joint's motor to its spring (stiffness, damping,
+    /// target; the implicit τP + τA with the diagonal of `I`) for the hand at angles `q`, and
+    /// adds the `coupling` torques (a ball joint's cross terms of `I`, explicit).
+    pub fn drive(
+        &self,
+        world: &mut PhysicsWorld,
+        springs: &[prehensile_control::JointSpring],
+        q: &[f64],
+        coupling: &[f64],
+    ) {
         for body in self.bones.iter().chain(&self.intermediates) {
             if let Some(b) = world.bodies.get_mut(*body) {
                 b.reset_forces(false);
                 b.reset_torques(false);
             }
         }
-        for (dof, s) in self.dofs.iter().zip(springs) {
+        for (k, (dof, s)) in self.dofs.iter().zip(springs).enumerate() {
+            let (target, target_velocity) = match dof.ball_rest {
+                None => (s.target, s.target_velocity),
+                Some(rest) => {
+                    // Rapier measures a spherical joint's angle about an axis as twice the
+                    // arcsine of that component of the relative quaternion (child⁻¹·parent here:
+                    // minus the joint rotation), not as a rotation-vector component. Its target
+                    // is offset by the difference at the current pose, so the spring's torque
+                    // there is exactly the controller's; rates change sign with the body order.
+                    let child = *world.bodies[dof.child].rotation();
+                    let parent = *world.bodies[dof.parent].rotation();
+                    let mut relative = child.inverse() * parent * rest;
+                    if relative.w < 0.0 {
+                        relative = -relative;
+                    }
+                    let component = relative.xyz()[dof.motor as usize - 3];
+                    let measured = 2.0 * component.clamp(-1.0, 1.0).asin();
+                    (measured - (s.target - q[k]), -s.target_velocity)
+                }
+            };
             if let Some(joint) = world.impulse_joints.get_mut(dof.joint, false) {
-                joint.data.set_motor(
-                    JointAxis::AngX,
-                    s.target,
-                    s.target_velocity,
-                    s.stiffness,
-                    s.damping,
-                );
+                joint
+                    .data
+                    .set_motor(dof.motor, target, target_velocity, s.stiffness, s.damping);
+            }
+            if coupling[k] != 0.0 {
+                let axis = *world.bodies[dof.child].rotation() * dof.axis_in_child;
+                world.bodies[dof.child].add_torque(axis * coupling[k], false);
+                world.bodies[dof.parent].add_torque(-axis * coupling[k], false);
             }
         }
     }
@@ -313,7 +366,21 @@ fn revolute(
         parent,
         child,
         axis_in_child: frame2.rotation * axis,
+        motor: JointAxis::AngX,
+        ball_rest: None,
     }
+}
+
+/// A spherical joint from the child (first body, at its origin) to the parent (second body, at
+/// the bone's rest frame `rest`), with force-based motors about the child's three axes.
+fn spherical(rest: Pose) -> GenericJointBuilder {
+    let mut joint = GenericJointBuilder::new(JointAxesMask::LOCKED_SPHERICAL_AXES)
+        .local_frame2(rest)
+        .contacts_enabled(false);
+    for axis in [JointAxis::AngX, JointAxis::AngY, JointAxis::AngZ] {
+        joint = joint.motor_model(axis, MotorModel::ForceBased);
+    }
+    joint
 }
 
 /// Mass properties with a full inertia tensor about the centre of mass.
@@ -335,12 +402,6 @@ fn mass_properties(mass: f64, com: Vector, inertia: &nalgebra::Matrix3<f64>) -> 
 /// Why a hand cannot be simulated.
 pub fn check_hand(hand: &HandModel) -> Result<(), crate::SimError> {
     for bone in hand.bones() {
-        if matches!(bone.joint, Joint::Ball { .. }) {
-            return Err(crate::SimError::Hand(format!(
-                "bone '{}' has a ball joint; the simulation handles hinge and two-axis joints (the dynamics and controller handle ball joints too)",
-                bone.name
-            )));
-        }
         if bone.parent.is_some() && bone.joint.dofs() > 0 && bone.inertial.is_none() {
             return Err(crate::SimError::Hand(format!(
                 "bone '{}' moves but has no mass; give it an inertial",

@@ -3,7 +3,9 @@
 //! reads each hand's joint state, advances its state machine, sets its joint springs (τP + τA)
 //! and compensation (τG + τARM, as body wrenches), steps the world, and checks that nothing diverged.
 
-use prehensile_control::{joint_springs, outboard_inertia, GraspController, GraspState};
+use prehensile_control::{
+    ball_joint_coupling, joint_springs, outboard_inertia, GraspController, GraspState,
+};
 use prehensile_core::animation::Keyframe;
 use prehensile_core::math::{Point3, Rotation, Transform, Vec3};
 use prehensile_core::{HandModel, ObjectModel};
@@ -115,7 +117,7 @@ pub enum DistanceTo {
 /// A hand to simulate.
 #[derive(Debug, Clone)]
 pub struct HandSetup {
-    /// The hand model (hinge and two-axis joints, with masses).
+    /// The hand model (with masses on every moving bone).
     pub hand: HandModel,
     /// Its controller.
     pub controller: GraspController,
@@ -442,6 +444,7 @@ impl Simulation {
             let time = self.time;
             let inertia = outboard_inertia(hand, &h.q).map_err(|e| diverged(time, i, e))?;
             let springs = joint_springs(&inertia, &h.q, &c.setpoints, &blend, &c.gains, c.active);
+            let coupling = ball_joint_coupling(&inertia, &springs, &h.q, &h.qd);
             let palm = if h.setup.compensate_arm {
                 h.setup.arm.frame_motion(self.time, &h.palm_local)
             } else {
@@ -456,7 +459,7 @@ impl Simulation {
                 Vec3::zeros()
             };
             let h = &self.hands[i];
-            h.body.drive(&mut self.world, &springs);
+            h.body.drive(&mut self.world, &springs, &h.q, &coupling);
             if h.setup.compensate_gravity || h.setup.compensate_arm {
                 h.body.hold(&mut self.world, &palm, &gravity);
             }
