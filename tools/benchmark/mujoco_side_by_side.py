@@ -1,21 +1,24 @@
-"""The Shadow hand gripping a sphere in MuJoCo, timed per step, next to Prehensile's own benchmark
-of the same kind of scene, reported as a ratio of steps per second (issue 5, docs/PERFORMANCE.md).
+"""The Shadow hand gripping a sphere in MuJoCo and in Prehensile, timed per step in alternating
+blocks, reported as a ratio of steps per second (issue 5, docs/PERFORMANCE.md).
 
 The scene on both sides: the Shadow hand fixture (`assets/hands/shadow_hand/reach.xml`), the palm
 held still, the fingers closed by stiff joint servos on a 4 cm sphere of 20 kg/m^3 (Prehensile's
 built-in sphere and default density) pressed into the palm by gravity, contacts active and
 settled before timing. MuJoCo runs the file as it is except for the visual meshes (`stls/` is not
 in the repository; the meshes are visual only, except the forearm's convex collider, which is far
-from the object) and the sphere body it adds. Prehensile's side is the criterion benchmark
-`simulation_step/shadow_sphere_dt_*` (crates/prehensile-sim/benches/simulation.rs): the grasp
-scenario's grip on the same sphere.
+from the object) and the sphere body it adds. Prehensile's side is
+`prehensile_sim::scenarios::held_still`, the scene of the criterion benchmark
+`simulation_step/shadow_sphere_dt_*`, driven by `crates/prehensile-sim/examples/step_timing.rs`.
 
 Run from the repository root (after `pip install mujoco==4.0.0`):
-    python3 tools/benchmark/mujoco_side_by_side.py
-It runs both (the cargo bench for the Shadow hand, then MuJoCo) and prints a table of median
-microseconds per step, steps per second and the ratio, at dt 0.2 ms and 1 ms.
+    python3 tools/benchmark/mujoco_side_by_side.py [--pairs N]
+The two engines take turns, N pairs of blocks per step length (default 30): STEPS steps of
+Prehensile, then the same of MuJoCo, each timed as the median of blocks of 100 steps. The machine's
+speed drifts by tens of percent within minutes (a shared 2-core machine), so each ratio comes
+from timings a fraction of a second apart; the table reports the medians, and the ratio's median
+with its quartiles, at dt 0.2 ms and 1 ms.
 """
-import json
+import argparse
 import pathlib
 import statistics
 import subprocess
@@ -31,8 +34,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 HAND = ROOT / "assets/hands/shadow_hand"
 SPHERE_RADIUS = 0.04
 DENSITY = 20.0
-STEPS = {0.0002: 5000, 0.001: 1000}
-REPEATS = 7
+STEPS = {0.0002: 2000, 0.001: 1000}  # steps per block of each engine's turn
 
 
 def stripped_scene(directory: pathlib.Path) -> pathlib.Path:
@@ -93,40 +95,84 @@ def hand_contacts(model, data) -> int:
     )
 
 
-def mujoco_step_us(dt: float):
-    with tempfile.TemporaryDirectory() as directory:
-        model, data = gripping(stripped_scene(pathlib.Path(directory)), dt)
-        start = data.qpos[model.jnt_qposadr[model.joint("object").id] :][:3].copy()
-        times = []
-        for _ in range(REPEATS):
-            begin = time.perf_counter()
-            for _ in range(STEPS[dt]):
-                mujoco.mj_step(model, data)
-            times.append((time.perf_counter() - begin) / STEPS[dt] * 1e6)
-        end = data.qpos[model.jnt_qposadr[model.joint("object").id] :][:3]
-        return statistics.median(times), hand_contacts(model, data), float(np.linalg.norm(end - start))
+def mujoco_step_us(model, data, steps: int) -> float:
+    """Median microseconds per step over blocks of 100 steps."""
+    blocks = []
+    for _ in range(max(1, steps // 100)):
+        begin = time.perf_counter()
+        for _ in range(100):
+            mujoco.mj_step(model, data)
+        blocks.append((time.perf_counter() - begin) / 100 * 1e6)
+    return statistics.median(blocks)
 
 
-def prehensile_step_us(dt: float) -> float:
-    name = f"shadow_sphere_dt_{dt * 1e3:g}ms"
-    estimates = ROOT / f"target/criterion/simulation_step/{name}/new/estimates.json"
-    return json.loads(estimates.read_text())["median"]["point_estimate"] / 1e3
+def sphere_position(model, data):
+    return data.qpos[model.jnt_qposadr[model.joint("object").id] :][:3].copy()
+
+
+class Prehensile:
+    """The step_timing example, built and started once, answering timing requests."""
+
+    def __init__(self):
+        subprocess.run(
+            ["cargo", "build", "--release", "-p", "prehensile-sim", "--example", "step_timing"],
+            cwd=ROOT, check=True,
+        )
+        self.process = subprocess.Popen(
+            [str(ROOT / "target/release/examples/step_timing"), str(HAND / "reach.xml")]
+            + [str(dt) for dt in STEPS],
+            cwd=ROOT, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
+        )
+        if self.process.stdout.readline().strip() != "ready":
+            sys.exit("step_timing did not start (see its error above)")
+
+    def step_us(self, dt: float, steps: int) -> float:
+        self.process.stdin.write(f"{dt} {steps}\n")
+        self.process.stdin.flush()
+        answer = self.process.stdout.readline()
+        if not answer:
+            sys.exit("step_timing stopped (see its error above)")
+        return float(answer)
+
+
+def quartiles(values):
+    q = statistics.quantiles(values, n=4)
+    return q[0], q[2]
 
 
 def main():
-    subprocess.run(
-        ["cargo", "bench", "-p", "prehensile-sim", "--bench", "simulation", "--", "shadow_sphere"],
-        cwd=ROOT, check=True,
-    )
-    print(f"MuJoCo {mujoco.__version__}, Shadow hand gripping a {SPHERE_RADIUS * 100:g} cm sphere")
-    print("dt ms | MuJoCo µs/step  steps/s | Prehensile µs/step  steps/s | Prehensile/MuJoCo steps/s")
-    for dt in STEPS:
-        ours = prehensile_step_us(dt)
-        theirs, contacts, drift = mujoco_step_us(dt)
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--pairs", type=int, default=30, help="alternating blocks per step length")
+    pairs = parser.parse_args().pairs
+    if pairs < 2:
+        parser.error("--pairs must be at least 2")
+    ours_engine = Prehensile()
+    with tempfile.TemporaryDirectory() as directory:
+        path = stripped_scene(pathlib.Path(directory))
+        scenes = {dt: gripping(path, dt) for dt in STEPS}
+    starts = {dt: sphere_position(*scenes[dt]) for dt in STEPS}
+    print(f"MuJoCo {mujoco.__version__}, Shadow hand gripping a {SPHERE_RADIUS * 100:g} cm sphere,"
+          f" {pairs} alternating pairs of blocks per step length")
+    print("dt ms | MuJoCo µs/step  steps/s | Prehensile µs/step  steps/s |"
+          " Prehensile/MuJoCo steps/s: median (quartiles)")
+    for dt, steps in STEPS.items():
+        ours, theirs = [], []
+        for _ in range(pairs):
+            ours.append(ours_engine.step_us(dt, steps))
+            theirs.append(mujoco_step_us(*scenes[dt], steps))
+        ratios = [t / o for t, o in zip(theirs, ours)]
+        low, high = quartiles(ratios)
+        model, data = scenes[dt]
+        drift = float(np.linalg.norm(sphere_position(model, data) - starts[dt]))
+        o, t = statistics.median(ours), statistics.median(theirs)
         print(
-            f"{dt * 1e3:5g} | {theirs:14.1f} {1e6 / theirs:8.0f} | {ours:18.1f} {1e6 / ours:8.0f} |"
-            f" {theirs / ours:.2f}   (MuJoCo: {contacts} sphere contacts, sphere moved {drift * 1e3:.1f} mm while timed)"
+            f"{dt * 1e3:5g} | {t:14.1f} {1e6 / t:8.0f} | {o:18.1f} {1e6 / o:8.0f} |"
+            f" {statistics.median(ratios):.2f} ({low:.2f}–{high:.2f})"
+            f"   (MuJoCo: {hand_contacts(model, data)} sphere contacts, sphere moved"
+            f" {drift * 1e3:.1f} mm while timed)"
         )
+    ours_engine.process.stdin.close()
+    ours_engine.process.wait()
 
 
 if __name__ == "__main__":

@@ -9,63 +9,17 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use prehensile_core::math::Transform;
 use prehensile_core::{shapes, HandModel, ObjectModel};
-use prehensile_sim::scenarios::{grasp_arm, plan_grasp, GraspTimes};
-use prehensile_sim::{DistanceTo, HandSetup, Settings, Simulation};
+use prehensile_sim::scenarios::held_still;
+use prehensile_sim::{Settings, Simulation};
 
 fn sphere() -> ObjectModel {
     ObjectModel::new("sphere", shapes::builtin_object("sphere").unwrap(), None).unwrap()
 }
 
-/// A simulation of `hand` gripping the sphere with `substeps` solver iterations per step of
-/// `dt`: the grasp scenario run to just after let-go, the arm then held still. With gravity
-/// into the palm the sphere stays in the hand (human: 12–14 capsules touching it, Shadow: 4).
+/// `hand` holding the sphere still (human: 12–14 capsules touching it, Shadow: 4).
 fn gripping(hand: &HandModel, dt: f64, substeps: usize) -> Simulation {
-    let object = sphere();
-    let grasp = plan_grasp(hand, &object).unwrap();
-    // Gravity presses the object into the palm (against the approach), as in the MuJoCo scene
-    // of tools/benchmark/mujoco_side_by_side.py.
-    let gravity = -9.81 * grasp.approach.normalize();
-    let mut controller = grasp.controller(hand, &gravity).unwrap();
-    controller.alpha = 0.5;
-    // Held in place after the grip: the lift never comes, so the scene stays the same however
-    // many steps criterion takes.
-    let times = GraspTimes {
-        lift: 1e6,
-        lifted: 1e6 + 1.0,
-        release: 1e6 + 2.0,
-        end: 1e6 + 3.0,
-        ..GraspTimes::default()
-    };
-    let mut sim = Simulation::new(Settings {
-        dt,
-        solver_iterations: substeps,
-        gravity,
-        ..Settings::default()
-    })
-    .unwrap();
-    sim.add_object(&object, &Transform::identity(), true)
-        .unwrap();
-    sim.add_hand(HandSetup {
-        hand: hand.clone(),
-        start: controller.setpoints.neutral.clone(),
-        controller,
-        arm: grasp_arm(&grasp, &Transform::identity(), &times),
-        distance: DistanceTo::GraspPlace(grasp.place()),
-        release_at: None,
-        compensate_gravity: true,
-        compensate_arm: true,
-        manual: Vec::new(),
-    })
-    .unwrap();
-    while sim.time() < times.let_go + 0.05 {
-        if sim.time() >= times.let_go {
-            sim.let_go_object();
-        }
-        sim.step().unwrap();
-    }
-    sim
+    held_still(hand, &sphere(), dt, substeps).unwrap()
 }
 
 fn step(c: &mut Criterion) {

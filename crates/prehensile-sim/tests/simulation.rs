@@ -334,3 +334,22 @@ fn arm_compensation_removes_most_of_the_finger_lag_of_a_shake() {
         lag(1)
     );
 }
+
+#[test]
+fn the_benchmark_scene_holds_its_object_still() {
+    let sphere = prehensile_core::ObjectModel::new(
+        "sphere",
+        prehensile_core::shapes::builtin_object("sphere").unwrap(),
+        None,
+    )
+    .unwrap();
+    let mut sim = scenarios::held_still(&human(), &sphere, 1e-3, 4).unwrap();
+    let before = sim.object_pose().unwrap().translation.vector;
+    for _ in 0..200 {
+        sim.step().unwrap();
+    }
+    let moved = (sim.object_pose().unwrap().translation.vector - before).norm();
+    let touching = sim.contacts(0).touching;
+    assert!(touching >= 3, "{touching} capsules touch the sphere");
+    assert!(moved < 0.002, "the sphere moved {moved} m in 0.2 s");
+}

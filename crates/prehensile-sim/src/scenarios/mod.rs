@@ -7,6 +7,7 @@ mod grasp;
 mod grasp_plan;
 mod grip_sweep;
 mod handshake;
+mod held_still;
 mod open_close;
 mod shake;
 
@@ -21,6 +22,7 @@ use crate::simulation::{Settings, Simulation, StateChange};
 use crate::SimError;
 
 pub use grasp_plan::{grasp_arm, plan_grasp, GraspTimes, PlannedGrasp, APPROACH, LIFT};
+pub use held_still::held_still;
 
 /// Schema name of run reports.
 pub const RUN_SCHEMA: &str = "prehensile.run/1";
