@@ -39,6 +39,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("ready");
     for line in std::io::stdin().lock().lines() {
         let line = line?;
+        if line.trim().is_empty() {
+            continue;
+        }
         let mut words = line.split_whitespace();
         let (Some(dt), Some(count)) = (words.next(), words.next()) else {
             return Err(format!("expected 'DT STEPS', got '{line}'").into());
