@@ -292,7 +292,7 @@ impl ArticulatedHand {
                 Some(rest) => {
                     // Rapier measures a spherical joint's angle about an axis as twice the
                     // arcsine of that component of the relative quaternion (child⁻¹·parent here:
-                    // minus the joint rotation), not as a rotation-vector component. Its target
+                    // the joint rotation's inverse), not as a rotation-vector component. Its target
                     // is offset by the difference at the current pose, so the spring's torque
                     // there is exactly the controller's; rates change sign with the body order.
                     let child = *world.bodies[dof.child].rotation();
