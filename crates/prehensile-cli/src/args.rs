@@ -77,10 +77,13 @@ pub struct SimulateArgs {
     /// Simulated seconds per case (default: the scenario's own).
     #[arg(long)]
     pub seconds: Option<f64>,
-    /// Solver substeps per step (default: one per 0.25 ms of step and at least 2, so 2 at 0.2 ms,
-    /// 4 at 1 ms).
+    /// Solver substeps per step (default: one per 0.5 ms of step and at least 1, so 1 at 0.2 ms,
+    /// 2 at 1 ms).
     #[arg(long)]
     pub iterations: Option<usize>,
+    /// Gauss–Seidel sweeps over the constraints in each substep.
+    #[arg(long, default_value_t = prehensile_sim::Settings::INNER_ITERATIONS)]
+    pub inner_iterations: usize,
     /// Friction coefficient.
     #[arg(long, default_value_t = 1.0)]
     pub friction: f64,

@@ -376,6 +376,7 @@ fn simulate_writes_a_finite_report_and_an_animation() {
 fn simulate_refuses_bad_settings_with_the_reason() {
     for (option, value, reason) in [
         ("--iterations", "0", "solver iterations"),
+        ("--inner-iterations", "0", "inner solver iterations"),
         ("--dt", "0.5", "too large"),
         ("--alpha", "NaN", "grip strength"),
     ] {

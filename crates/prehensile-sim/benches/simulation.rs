@@ -1,7 +1,7 @@
 //! One simulation step of a hand gripping an object (contacts active), at the paper's 0.2 ms and
 //! at 1 ms, each with the default substeps for its step: the human hand and the Shadow hand
 //! (MJCF fixture) on the built-in sphere, gravity pressing the sphere into the palm; and the
-//! human hand at 0.2 ms with 1, 2 and 4 substeps. Steps per second = 1 / time per step;
+//! human hand at 0.2 ms with 1, 2 and 4 substeps (3 sweeps each). Steps per second = 1 / time per step;
 //! real-time factor = dt / time.
 //!
 //! Run: `cargo bench -p prehensile-sim --bench simulation`
@@ -46,7 +46,7 @@ fn step(c: &mut Criterion) {
     group.finish();
 }
 
-/// The cost of solver substeps at the paper's 0.2 ms (the default is 2; see
+/// The cost of solver substeps at the paper's 0.2 ms (the default is 1; see
 /// `Settings::iterations_for`).
 fn substeps(c: &mut Criterion) {
     let hand = prehensile_formats::builtin_hand("human").unwrap();

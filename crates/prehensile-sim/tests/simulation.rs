@@ -154,11 +154,13 @@ fn absurd_gains_are_caught_as_divergence_naming_the_bone() {
 
 #[test]
 fn substeps_follow_the_step_length() {
-    assert_eq!(Settings::iterations_for(0.0002), 2, "the paper's step");
-    assert_eq!(Settings::iterations_for(0.001), 4);
-    assert_eq!(Settings::default().solver_iterations, 4);
-    assert_eq!(Settings::iterations_for(0.0025), 10);
-    assert_eq!(Settings::iterations_for(f64::NAN), 2);
+    assert_eq!(Settings::iterations_for(0.0002), 1, "the paper's step");
+    assert_eq!(Settings::iterations_for(0.0005), 1);
+    assert_eq!(Settings::iterations_for(0.001), 2);
+    assert_eq!(Settings::default().solver_iterations, 2);
+    assert_eq!(Settings::default().inner_iterations, 3);
+    assert_eq!(Settings::iterations_for(0.0025), 5);
+    assert_eq!(Settings::iterations_for(f64::NAN), 1);
     assert_eq!(Settings::iterations_for(1.0), 100, "capped");
 }
 
@@ -192,6 +194,13 @@ fn bad_settings_and_setpoints_are_refused_with_reasons() {
                 ..Settings::default()
             },
             "iterations",
+        ),
+        (
+            Settings {
+                inner_iterations: 0,
+                ..Settings::default()
+            },
+            "inner solver iterations",
         ),
     ] {
         let e = Simulation::new(settings).err().expect("refused");
@@ -343,7 +352,8 @@ fn the_benchmark_scene_holds_its_object_still() {
         None,
     )
     .unwrap();
-    let mut sim = scenarios::held_still(&human(), &sphere, 1e-3, 4).unwrap();
+    let mut sim =
+        scenarios::held_still(&human(), &sphere, 1e-3, Settings::iterations_for(1e-3)).unwrap();
     let before = sim.object_pose().unwrap().translation.vector;
     for _ in 0..200 {
         sim.step().unwrap();
@@ -351,5 +361,6 @@ fn the_benchmark_scene_holds_its_object_still() {
     let moved = (sim.object_pose().unwrap().translation.vector - before).norm();
     let touching = sim.contacts(0).touching;
     assert!(touching >= 3, "{touching} capsules touch the sphere");
-    assert!(moved < 0.002, "the sphere moved {moved} m in 0.2 s");
+    // Settling in the hand moves it a few millimetres; falling would take it 20 cm.
+    assert!(moved < 0.005, "the sphere moved {moved} m in 0.2 s");
 }

@@ -41,6 +41,7 @@ pub fn run(args: &SimulateArgs) -> Result<i32, CliError> {
             solver_iterations: args
                 .iterations
                 .unwrap_or_else(|| Settings::iterations_for(args.dt)),
+            inner_iterations: args.inner_iterations,
             ..Settings::default()
         },
         seconds: args.seconds,
