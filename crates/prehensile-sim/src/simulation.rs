@@ -27,7 +27,7 @@ pub struct Settings {
     /// Friction coefficient of skin and objects (combined by rapier as their mean).
     pub friction: f64,
     /// Object density, kg/m³ (default 20, like expanded polystyrene: with Table 1's gains the
-    /// hand squeezes with 0.03–0.65 N for α 0–0.5, enough for objects of a few grams).
+    /// hand squeezes with 0.03–0.62 N for α 0–0.5, enough for objects of a few grams).
     pub object_density: f64,
     /// Solver iterations (rapier's substeps) per step; [`Settings::iterations_for`] gives a
     /// good count for a step length.
