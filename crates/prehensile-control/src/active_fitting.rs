@@ -8,6 +8,8 @@
 //! weight is zero in every frame stay (numerically) zero.
 
 use nalgebra::DMatrix;
+use prehensile_core::hand::Joint;
+use prehensile_core::math::{Rotation, Vec3};
 use prehensile_core::HandModel;
 
 use crate::controller::{passive_torque, Gains, Setpoints};
@@ -41,12 +43,7 @@ pub fn fit_active(
     let mut a = DMatrix::zeros(frames, 12);
     let mut b = DMatrix::zeros(frames, n);
     for t in 1..q.len() - 1 {
-        let qd: Vec<f64> = (0..n)
-            .map(|k| (q[t + 1][k] - q[t - 1][k]) / (2.0 * dt))
-            .collect();
-        let qdd: Vec<f64> = (0..n)
-            .map(|k| (q[t + 1][k] - 2.0 * q[t][k] + q[t - 1][k]) / (dt * dt))
-            .collect();
+        let (qd, qdd) = rates(hand, [&q[t - 1], &q[t], &q[t + 1]], dt);
         let tau = inverse_dynamics_moving_base(hand, &q[t], &qd, &qdd, base)?;
         let zero = vec![0.0; n];
         let compensation = inverse_dynamics_moving_base(hand, &q[t], &zero, &zero, base)?;
@@ -75,4 +72,32 @@ pub fn fit_active(
         }
     }
     Ok(())
+}
+
+/// Joint rates and accelerations at the middle of three frames `dt` apart, by central
+/// differences. A ball joint's rates are the bone-frame angular velocity the dynamics use, not the
+/// rate of its rotation vector (they differ by a tenth and more at a few tenths of a radian):
+/// ω = log(R₀⁻¹ R₂) / 2dt, and its acceleration the change of the half-step velocities.
+fn rates(hand: &HandModel, [before, now, after]: [&[f64]; 3], dt: f64) -> (Vec<f64>, Vec<f64>) {
+    let mut qd: Vec<f64> = (0..now.len())
+        .map(|k| (after[k] - before[k]) / (2.0 * dt))
+        .collect();
+    let mut qdd: Vec<f64> = (0..now.len())
+        .map(|k| (after[k] - 2.0 * now[k] + before[k]) / (dt * dt))
+        .collect();
+    for bone in hand.bones() {
+        if !matches!(bone.joint, Joint::Ball { .. }) {
+            continue;
+        }
+        let range = bone.first_dof..bone.first_dof + 3;
+        let turn =
+            |q: &[f64]| Rotation::from_scaled_axis(Vec3::from_column_slice(&q[range.clone()]));
+        let (r0, r1, r2) = (turn(before), turn(now), turn(after));
+        let velocity = (r0.inverse() * r2).scaled_axis() / (2.0 * dt);
+        let first_half = (r0.inverse() * r1).scaled_axis() / dt;
+        let second_half = (r1.inverse() * r2).scaled_axis() / dt;
+        qd[range.clone()].copy_from_slice(velocity.as_slice());
+        qdd[range.clone()].copy_from_slice(((second_half - first_half) / dt).as_slice());
+    }
+    (qd, qdd)
 }
