@@ -268,6 +268,9 @@ pub fn ball_joint_coupling(
     q: &[f64],
     qd: &[f64],
 ) -> Vec<f64> {
+    if inertia.balls.is_empty() {
+        return vec![0.0; springs.len()];
+    }
     let unit: Vec<f64> = springs
         .iter()
         .zip(&inertia.diagonal)

@@ -30,13 +30,7 @@ pub fn fit_controller(
 ) -> Result<GraspController, DynamicsError> {
     motion.check(hand.dof_names())?;
     let (neutral, mut limits) = fit_passive(&motion.frames)?;
-    for (k, limit) in limits.iter_mut().enumerate() {
-        let bone = hand
-            .bones()
-            .iter()
-            .find(|b| b.first_dof <= k && k < b.first_dof + b.joint.dofs())
-            .expect("every degree of freedom belongs to a bone");
-        let [lo, hi] = bone.joint.limits(k - bone.first_dof);
+    for (limit, [lo, hi]) in limits.iter_mut().zip(hand.dof_limits()) {
         *limit = [limit[0].min(lo), limit[1].max(hi)];
     }
     let n = hand.dof_count();

@@ -39,12 +39,7 @@ fn passive(hand: &HandModel, root: Transform, neutral: &[f64], start: &[f64]) ->
         positions: std::array::from_fn(|_| neutral.to_vec()),
         velocities: std::array::from_fn(|_| vec![0.0; n]),
         neutral: neutral.to_vec(),
-        limits: (0..n)
-            .map(|k| {
-                let bone = hand.bones().iter().rfind(|b| b.first_dof <= k).unwrap();
-                bone.joint.limits(k - bone.first_dof)
-            })
-            .collect(),
+        limits: hand.dof_limits(),
     };
     let mut controller = GraspController::new(Gains::default(), setpoints);
     controller.active = false;
@@ -211,4 +206,23 @@ fn at_rest_under_gravity_the_springs_act_through_the_whole_inertia_block() {
     }
     // The diagonal alone would be off by this much: the test can tell the two apart.
     assert!(cross_terms > 0.05 * scale, "{cross_terms} vs {scale}");
+}
+
+#[test]
+fn every_degree_of_freedom_has_its_joints_limits_in_order() {
+    let hand = ball_hand();
+    let limits = hand.dof_limits();
+    assert_eq!(limits.len(), hand.dof_count());
+    let (ball, hinge) = (
+        [-60f64.to_radians(), 60f64.to_radians()],
+        [0.0, 90f64.to_radians()],
+    );
+    let balls = ball_dofs(&hand);
+    for (k, [lo, hi]) in limits.into_iter().enumerate() {
+        let expected = if balls.contains(&k) { ball } else { hinge };
+        assert!(
+            (lo - expected[0]).abs() < 1e-12 && (hi - expected[1]).abs() < 1e-12,
+            "degree of freedom {k}: [{lo}, {hi}]"
+        );
+    }
 }

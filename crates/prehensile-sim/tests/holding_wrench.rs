@@ -10,11 +10,8 @@ use prehensile_sim::{holding_wrench, FrameMotion};
 fn body_wrenches_through_the_joints_equal_inverse_dynamics_with_a_moving_base() {
     let hand = prehensile_formats::builtin_hand("human").unwrap();
     // A bent pose inside the limits, a tilted and moving palm, gravity down.
-    let q: Vec<f64> = (0..hand.dof_count())
-        .map(|k| {
-            let [lo, hi] = hand_limits(&hand, k);
-            lo + (hi - lo) * (0.2 + 0.6 * ((k * 7 % 11) as f64 / 10.0))
-        })
+    let q: Vec<f64> = (hand.dof_limits().into_iter().enumerate())
+        .map(|(k, [lo, hi])| lo + (hi - lo) * (0.2 + 0.6 * ((k * 7 % 11) as f64 / 10.0)))
         .collect();
     let root = Transform::from_parts(
         Vec3::new(0.1, -0.2, 0.3).into(),
@@ -112,13 +109,4 @@ fn body_wrenches_through_the_joints_equal_inverse_dynamics_with_a_moving_base() 
             hand.dof_names()[k]
         );
     }
-}
-
-fn hand_limits(hand: &prehensile_core::HandModel, k: usize) -> [f64; 2] {
-    let bone = hand
-        .bones()
-        .iter()
-        .rfind(|b| b.first_dof <= k && b.joint.dofs() > 0)
-        .unwrap();
-    bone.joint.limits(k - bone.first_dof)
 }

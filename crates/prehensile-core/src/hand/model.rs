@@ -233,6 +233,14 @@ impl HandModel {
         &self.dof_names
     }
 
+    /// The `[min, max]` limits of every degree of freedom, in [`HandModel::dof_names`] order.
+    pub fn dof_limits(&self) -> Vec<[f64; 2]> {
+        self.bones
+            .iter()
+            .flat_map(|bone| (0..bone.joint.dofs()).map(|k| bone.joint.limits(k)))
+            .collect()
+    }
+
     /// Total degrees of freedom.
     pub fn dof_count(&self) -> usize {
         self.dof_count
