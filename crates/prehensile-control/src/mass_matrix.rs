@@ -1,7 +1,9 @@
 //! The joint-space mass matrix by the composite-rigid-body algorithm (Featherstone, *Rigid Body
-//! Dynamics Algorithms*, §6.2), with 6×6 spatial inertias in each bone's frame, `[ω; v]` order.
+//! Dynamics Algorithms*, §6.2): composite inertias summed as rigid-body inertias, forces
+//! carried inboard with 6×6 spatial transforms in each bone's frame, `[ω; v]` order.
 
 use nalgebra::{DMatrix, Matrix3, Matrix6, Vector6};
+use prehensile_core::hand::Inertial;
 use prehensile_core::math::Vec3;
 use prehensile_core::HandModel;
 
@@ -21,52 +23,95 @@ fn motion_transform(e: &Matrix3<f64>, r: &Vec3) -> Matrix6<f64> {
     x
 }
 
-/// The links of a hand at one pose, with each link's parent→link motion transform and the
-/// composite spatial inertia of its subtree about its frame origin (in its frame).
-struct Composite {
-    links: Vec<Link>,
-    transforms: Vec<Matrix6<f64>>,
-    inertias: Vec<Matrix6<f64>>,
+/// A body's inertia about a frame's origin, in that frame: mass, first moment (mass times
+/// centre of mass) and rotational inertia (Featherstone §2.13's rigid-body inertia). Ten numbers
+/// instead of a 6×6 spatial inertia: moving one to the parent's frame costs a few 3×3 products
+/// rather than two 6×6 ones, which matters because the simulation sums them every step.
+#[derive(Debug, Clone, Copy)]
+struct BodyInertia {
+    mass: f64,
+    moment: Vec3,
+    rotational: Matrix3<f64>,
 }
 
-/// The composite inertias of every link (Featherstone's CRBA, first pass).
-fn composite_inertias(hand: &HandModel, q: &[f64]) -> Result<Composite, DynamicsError> {
+impl BodyInertia {
+    fn zero() -> Self {
+        Self {
+            mass: 0.0,
+            moment: Vec3::zeros(),
+            rotational: Matrix3::zeros(),
+        }
+    }
+
+    /// A bone's own mass properties, about its frame origin.
+    fn of(inertial: &Inertial) -> Self {
+        let c = skew(&inertial.center_of_mass.coords);
+        Self {
+            mass: inertial.mass,
+            moment: inertial.center_of_mass.coords * inertial.mass,
+            rotational: inertial.inertia - c * c * inertial.mass,
+        }
+    }
+
+    /// The same inertia about the parent's origin in the parent's frame, for a link turned by
+    /// `to_bone` (parent→link) with its origin at `origin` in the parent's frame: rotate, then
+    /// shift by the parallel-axis theorem written with the first moment (so massless links
+    /// need no division).
+    fn in_parent(&self, to_bone: &Matrix3<f64>, origin: &Vec3) -> Self {
+        let moment = to_bone.transpose() * self.moment;
+        let (r, h) = (skew(origin), skew(&moment));
+        Self {
+            mass: self.mass,
+            moment: moment + origin * self.mass,
+            rotational: to_bone.transpose() * self.rotational * to_bone
+                - r * r * self.mass
+                - r * h
+                - h * r,
+        }
+    }
+
+    /// The 6×6 spatial inertia, `[ω; v]` order.
+    fn spatial(&self) -> Matrix6<f64> {
+        let h = skew(&self.moment);
+        let mut s = Matrix6::zeros();
+        s.fixed_view_mut::<3, 3>(0, 0).copy_from(&self.rotational);
+        s.fixed_view_mut::<3, 3>(0, 3).copy_from(&h);
+        s.fixed_view_mut::<3, 3>(3, 0).copy_from(&h.transpose());
+        s.fixed_view_mut::<3, 3>(3, 3)
+            .copy_from(&(Matrix3::identity() * self.mass));
+        s
+    }
+
+    fn add(&mut self, other: &Self) {
+        self.mass += other.mass;
+        self.moment += other.moment;
+        self.rotational += other.rotational;
+    }
+}
+
+/// The links of a hand at one pose and the composite inertia of each link's subtree about its
+/// frame origin, in its frame (Featherstone's CRBA, first pass).
+fn composite_inertias(
+    hand: &HandModel,
+    q: &[f64],
+) -> Result<(Vec<Link>, Vec<BodyInertia>), DynamicsError> {
     check(hand, &[("q", q)])?;
     let links = links(hand, q)?;
-    // Spatial inertia of each bone about its frame origin.
-    let mut composite: Vec<Matrix6<f64>> = links
+    let mut composite: Vec<BodyInertia> = links
         .iter()
-        .map(|b| {
-            let Some(i) = b.inertial else {
-                return Matrix6::zeros();
-            };
-            let c = skew(&i.center_of_mass.coords);
-            let mut s = Matrix6::zeros();
-            s.fixed_view_mut::<3, 3>(0, 0)
-                .copy_from(&(i.inertia + c * c.transpose() * i.mass));
-            s.fixed_view_mut::<3, 3>(0, 3).copy_from(&(c * i.mass));
-            s.fixed_view_mut::<3, 3>(3, 0)
-                .copy_from(&(c.transpose() * i.mass));
-            s.fixed_view_mut::<3, 3>(3, 3)
-                .copy_from(&(Matrix3::identity() * i.mass));
-            s
+        .map(|l| {
+            l.inertial
+                .as_ref()
+                .map_or(BodyInertia::zero(), BodyInertia::of)
         })
-        .collect();
-    let transforms: Vec<Matrix6<f64>> = links
-        .iter()
-        .map(|l| motion_transform(&l.to_bone, &l.origin))
         .collect();
     for i in (0..links.len()).rev() {
         if let Some(p) = links[i].parent {
-            let add = transforms[i].transpose() * composite[i] * transforms[i];
-            composite[p] += add;
+            let moved = composite[i].in_parent(&links[i].to_bone, &links[i].origin);
+            composite[p].add(&moved);
         }
     }
-    Ok(Composite {
-        links,
-        transforms,
-        inertias: composite,
-    })
+    Ok((links, composite))
 }
 
 /// The motion subspace of a link's degree of freedom (a hinge about its axis).
@@ -79,15 +124,15 @@ fn subspace(link: &Link) -> Vector6<f64> {
 /// of everything outboard of it about the joint, in the bone's frame (the paper's `I` for a
 /// ball joint; see [`crate::inverse_dynamics`] for its coordinates).
 pub fn mass_matrix(hand: &HandModel, q: &[f64]) -> Result<DMatrix<f64>, DynamicsError> {
-    let Composite {
-        links,
-        transforms,
-        inertias: composite,
-    } = composite_inertias(hand, q)?;
+    let (links, composite) = composite_inertias(hand, q)?;
+    let transforms: Vec<Matrix6<f64>> = links
+        .iter()
+        .map(|l| motion_transform(&l.to_bone, &l.origin))
+        .collect();
     let mut m = DMatrix::zeros(hand.dof_count(), hand.dof_count());
     for i in 0..links.len() {
         let Some(di) = links[i].dof else { continue };
-        let mut force = composite[i] * subspace(&links[i]);
+        let mut force = composite[i].spatial() * subspace(&links[i]);
         m[(di, di)] = subspace(&links[i]).dot(&force);
         let mut j = i;
         while let Some(p) = links[j].parent {
@@ -154,17 +199,18 @@ impl OutboardInertia {
 /// The outboard inertia of every joint at pose `q` (see [`OutboardInertia`]). Computed from the
 /// composite inertias alone, without the rest of M (the simulation calls it every step).
 pub fn outboard_inertia(hand: &HandModel, q: &[f64]) -> Result<OutboardInertia, DynamicsError> {
-    let composite = composite_inertias(hand, q)?;
+    let (links, composite) = composite_inertias(hand, q)?;
     let mut diagonal = vec![0.0; hand.dof_count()];
     let mut balls = Vec::new();
-    for (link, inertia) in composite.links.iter().zip(&composite.inertias) {
+    for (link, inertia) in links.iter().zip(&composite) {
+        // A hinge's motion subspace is its axis, turning only.
         if let Some(d) = link.dof {
-            diagonal[d] = subspace(link).dot(&(inertia * subspace(link)));
+            diagonal[d] = link.axis.dot(&(inertia.rotational * link.axis));
         }
         // The three links of a ball joint share the bone's frame and only the last has mass,
         // so the last one's composite inertia is the whole joint's; its axes are the bone's.
         if let Some(first) = link.ball {
-            balls.push((first, inertia.fixed_view::<3, 3>(0, 0).into_owned()));
+            balls.push((first, inertia.rotational));
         }
     }
     Ok(OutboardInertia { diagonal, balls })
