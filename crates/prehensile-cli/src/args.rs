@@ -77,13 +77,14 @@ pub struct SimulateArgs {
     /// Simulated seconds per case (default: the scenario's own).
     #[arg(long)]
     pub seconds: Option<f64>,
-    /// Solver substeps per step (default: one per 0.5 ms of step and at least 1, so 1 at 0.2 ms,
-    /// 2 at 1 ms).
+    /// Solver substeps per step (default: one per millisecond of step and at least 1, so 1 at
+    /// 0.2 ms and at 1 ms).
     #[arg(long)]
     pub iterations: Option<usize>,
-    /// Gauss–Seidel sweeps over the constraints in each substep.
-    #[arg(long, default_value_t = prehensile_sim::Settings::INNER_ITERATIONS)]
-    pub inner_iterations: usize,
+    /// Gauss–Seidel sweeps over the constraints in each substep (default: one per 0.125 ms of
+    /// substep and at least 3, so 3 at 0.2 ms and 8 at 1 ms).
+    #[arg(long)]
+    pub inner_iterations: Option<usize>,
     /// Friction coefficient.
     #[arg(long, default_value_t = 1.0)]
     pub friction: f64,

@@ -1,8 +1,8 @@
 //! One simulation step of a hand gripping an object (contacts active), at the paper's 0.2 ms and
-//! at 1 ms, each with the default substeps for its step: the human hand and the Shadow hand
-//! (MJCF fixture) on the built-in sphere, gravity pressing the sphere into the palm; and the
-//! human hand at 0.2 ms with 1, 2 and 4 substeps (3 sweeps each). Steps per second = 1 / time per step;
-//! real-time factor = dt / time.
+//! at 1 ms, each with the default solver for its step (`Settings::for_step`): the human hand and
+//! the Shadow hand (MJCF fixture) on the built-in sphere, gravity pressing the sphere into the
+//! palm; and the human hand at 1 ms with the solver settings the default was chosen from
+//! (substeps × sweeps). Steps per second = 1 / time per step; real-time factor = dt / time.
 //!
 //! Run: `cargo bench -p prehensile-sim --bench simulation`
 
@@ -18,8 +18,8 @@ fn sphere() -> ObjectModel {
 }
 
 /// `hand` holding the sphere still (human: 12–14 capsules touching it, Shadow: 4).
-fn gripping(hand: &HandModel, dt: f64, substeps: usize) -> Simulation {
-    held_still(hand, &sphere(), dt, substeps).unwrap()
+fn gripping(hand: &HandModel, settings: Settings) -> Simulation {
+    held_still(hand, &sphere(), settings).unwrap()
 }
 
 fn step(c: &mut Criterion) {
@@ -37,7 +37,7 @@ fn step(c: &mut Criterion) {
     let mut group = c.benchmark_group("simulation_step");
     for (name, hand) in &hands {
         for dt in [0.0002, 0.001] {
-            let mut sim = gripping(hand, dt, Settings::iterations_for(dt));
+            let mut sim = gripping(hand, Settings::for_step(dt));
             group.bench_function(format!("{name}_sphere_dt_{}ms", dt * 1e3), |b| {
                 b.iter(|| black_box(&mut sim).step().unwrap())
             });
@@ -46,19 +46,27 @@ fn step(c: &mut Criterion) {
     group.finish();
 }
 
-/// The cost of solver substeps at the paper's 0.2 ms (the default is 1; see
-/// `Settings::iterations_for`).
-fn substeps(c: &mut Criterion) {
+/// The solver settings at 1 ms that keep every scenario's outcome: two substeps of 3 sweeps (the
+/// earlier default) and one substep of 7 or 8 sweeps (8 is the default; see
+/// `Settings::inner_iterations_for`).
+fn solver_at_1ms(c: &mut Criterion) {
     let hand = prehensile_formats::builtin_hand("human").unwrap();
-    let mut group = c.benchmark_group("substeps_at_0.2ms");
-    for substeps in [1, 2, 4] {
-        let mut sim = gripping(&hand, 0.0002, substeps);
-        group.bench_function(format!("human_sphere_{substeps}_substeps"), |b| {
+    let mut group = c.benchmark_group("solver_at_1ms");
+    for (substeps, sweeps) in [(2, 3), (1, 7), (1, 8)] {
+        let mut sim = gripping(
+            &hand,
+            Settings {
+                solver_iterations: substeps,
+                inner_iterations: sweeps,
+                ..Settings::for_step(0.001)
+            },
+        );
+        group.bench_function(format!("human_sphere_{substeps}x{sweeps}"), |b| {
             b.iter(|| black_box(&mut sim).step().unwrap())
         });
     }
     group.finish();
 }
 
-criterion_group!(benches, step, substeps);
+criterion_group!(benches, step, solver_at_1ms);
 criterion_main!(benches);

@@ -3,7 +3,7 @@
 //!
 //! `cargo run --release -p prehensile-sim --example step_timing -- HAND DT...` builds, for every
 //! step length DT (seconds), the hand HAND (a hand file or built-in name) holding the built-in
-//! sphere still ([`prehensile_sim::scenarios::held_still`], default substeps), prints `ready`,
+//! sphere still ([`prehensile_sim::scenarios::held_still`], the default solver for DT), prints `ready`,
 //! then answers each line `DT STEPS` on standard input with the median microseconds per step of
 //! that many steps, timed in blocks of 100. The published numbers come from the criterion
 //! benchmark (`cargo bench -p prehensile-sim --bench simulation`); this only lets the two
@@ -31,10 +31,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let dt: f64 = dt
             .parse()
             .map_err(|_| format!("step length '{dt}' is not a number"))?;
-        scenes.push((
-            dt,
-            held_still(&hand, &sphere, dt, Settings::iterations_for(dt))?,
-        ));
+        scenes.push((dt, held_still(&hand, &sphere, Settings::for_step(dt))?));
     }
     println!("ready");
     for line in std::io::stdin().lock().lines() {

@@ -247,6 +247,26 @@ impl ArticulatedHand {
         &self.collider_bones
     }
 
+    /// The bone whose origin is farthest from where its joint holds it on its parent, and that
+    /// distance in metres (`None` for a hand without joints). The joints keep this near zero;
+    /// a solver that has lost the hand shows it here even when rapier's velocity caps keep
+    /// every number finite.
+    pub fn widest_joint_gap(&self, world: &PhysicsWorld) -> Option<(usize, f64)> {
+        let frame = |h: RigidBodyHandle| convert::transform(world.bodies[h].position());
+        self.hand
+            .bones()
+            .iter()
+            .enumerate()
+            .filter_map(|(k, bone)| {
+                let parent = bone.parent?;
+                let held_at = frame(self.bones[parent]) * bone.rest;
+                let gap =
+                    (frame(self.bones[k]).translation.vector - held_at.translation.vector).norm();
+                Some((k, gap))
+            })
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+    }
+
     /// Joint angles and rates of every degree of freedom, read from the bodies.
     pub fn state(&self, world: &PhysicsWorld, q: &mut [f64], qd: &mut [f64]) {
         let frame = |h: RigidBodyHandle| convert::transform(world.bodies[h].position());

@@ -17,6 +17,10 @@ use crate::holding_wrench::FrameMotion;
 use crate::object_body::ObjectBody;
 use crate::{convert, SimError};
 
+/// How far a bone may come off its joint before the run counts as diverged, metres. In every
+/// scenario, for both hands at 0.2 and 1 ms, the joints stay within 0.1 mm.
+const JOINT_GAP_LIMIT: f64 = 0.005;
+
 /// World settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Settings {
@@ -29,47 +33,63 @@ pub struct Settings {
     /// Object density, kg/m³ (default 20, like expanded polystyrene: with Table 1's gains the
     /// hand squeezes with 0.03–0.62 N for α 0–0.5, enough for objects of a few grams).
     pub object_density: f64,
-    /// Solver iterations (rapier's substeps) per step; [`Settings::iterations_for`] gives a
-    /// good count for a step length.
+    /// Solver substeps per step (rapier's solver iterations); [`Settings::for_step`] chooses
+    /// them for a step length.
     pub solver_iterations: usize,
     /// Gauss–Seidel sweeps over the constraints in each substep (rapier's internal PGS
-    /// iterations; default [`Settings::INNER_ITERATIONS`]).
+    /// iterations); [`Settings::for_step`] chooses them for a step length.
     pub inner_iterations: usize,
     /// Frames per second of the recording (for animation export).
     pub record_fps: f64,
 }
 
 impl Default for Settings {
+    /// [`Settings::for_step`] of 1 ms.
     fn default() -> Self {
-        Self {
-            dt: 1e-3,
-            gravity: Vec3::new(0.0, 0.0, -9.81),
-            friction: 1.0,
-            object_density: 20.0,
-            solver_iterations: Self::iterations_for(1e-3),
-            inner_iterations: Self::INNER_ITERATIONS,
-            record_fps: 60.0,
-        }
+        Self::for_step(1e-3)
     }
 }
 
 impl Settings {
-    /// The default [`Settings::inner_iterations`]. A hand is a chain of joints, and one sweep
-    /// per substep leaves it unconverged; sweeps cost far less than substeps (a substep also
-    /// rebuilds every joint's constraint), so three sweeps in fewer substeps give the same
-    /// scenario outcomes 1.25–1.3× faster (docs/PERFORMANCE.md).
-    pub const INNER_ITERATIONS: usize = 3;
+    /// The default settings for a step of `dt` seconds, with the solver chosen for it
+    /// ([`Settings::iterations_for`], [`Settings::inner_iterations_for`]).
+    pub fn for_step(dt: f64) -> Self {
+        Self {
+            dt,
+            gravity: Vec3::new(0.0, 0.0, -9.81),
+            friction: 1.0,
+            object_density: 20.0,
+            solver_iterations: Self::iterations_for(dt),
+            inner_iterations: Self::inner_iterations_for(dt),
+            record_fps: 60.0,
+        }
+    }
 
-    /// The solver substeps for a step of `dt` seconds: one per 0.5 ms and at least one, so 1 at
-    /// the paper's 0.2 ms and 2 at 1 ms (each with [`Settings::INNER_ITERATIONS`] sweeps). With
-    /// fewer (1 at 1 ms) the human hand dropped the cylinder; more give the same outcomes at
-    /// more cost (docs/PERFORMANCE.md).
+    /// The solver substeps for a step of `dt` seconds: one per millisecond and at least one,
+    /// so 1 at the paper's 0.2 ms and at 1 ms. A substep rebuilds every joint's constraint and
+    /// a sweep only solves them again, so one substep of 1 ms with enough sweeps
+    /// ([`Settings::inner_iterations_for`]) keeps every scenario's outcome 1.1× faster than
+    /// two of 0.5 ms with 3 sweeps each (docs/PERFORMANCE.md).
     pub fn iterations_for(dt: f64) -> usize {
         if dt.is_finite() && dt > 0.0 {
-            (dt / 0.5e-3 - 1e-9).ceil().clamp(1.0, 100.0) as usize
+            (dt / 1e-3 - 1e-9).ceil().clamp(1.0, 100.0) as usize
         } else {
             1
         }
+    }
+
+    /// The Gauss–Seidel sweeps per substep for a step of `dt` seconds: one per 0.125 ms of
+    /// substep and at least 3, so 3 at 0.2 ms and 8 at 1 ms. A hand is a chain of joints that
+    /// one sweep leaves unconverged, and a longer substep needs more sweeps: with one substep
+    /// every grasp held at 0.2 ms with 3 sweeps, while at 1 ms the human hand dropped the
+    /// cylinder with 6 and held it with 7 or more (docs/PERFORMANCE.md).
+    pub fn inner_iterations_for(dt: f64) -> usize {
+        let substep = if dt.is_finite() && dt > 0.0 {
+            dt / Self::iterations_for(dt) as f64
+        } else {
+            0.0
+        };
+        ((substep / 0.125e-3 - 1e-9).ceil() as usize).clamp(3, 100)
     }
 
     /// Refuses settings that cannot give a meaningful run.
@@ -212,6 +232,10 @@ impl Simulation {
         world.integration_parameters.num_internal_pgs_iterations = settings.inner_iterations;
         // Joint chains converge far better when joint impulses carry over between steps.
         world.integration_parameters.warmstart_joints = true;
+        // No CCD: rapier's automatic CCD sweeps fast bodies against fixed colliders only, and
+        // this world has none (the palm is kinematic, the object dynamic), so its per-body
+        // checks were 3–4% of a step for nothing.
+        world.integration_parameters.max_ccd_substeps = 0;
 
         Ok(Self {
             settings,
@@ -489,7 +513,8 @@ impl Simulation {
         self.check_finite()
     }
 
-    /// Stops at the first non-finite or runaway body, naming the bone (or the object).
+    /// Stops at the first bone off its joint, non-finite or runaway body, naming the bone (or
+    /// the object).
     fn check_finite(&mut self) -> Result<(), SimError> {
         // Faster than anything a hand does: 2000 rad/s, 50 m/s.
         let runaway = |b: &rapier3d_f64::prelude::RigidBody| {
@@ -500,6 +525,19 @@ impl Simulation {
                 && b.linvel().length() < 50.0)
         };
         for (i, h) in self.hands.iter().enumerate() {
+            if let Some((k, gap)) = h.body.widest_joint_gap(&self.world) {
+                if gap > JOINT_GAP_LIMIT {
+                    return Err(SimError::Diverged {
+                        time: self.time,
+                        what: format!(
+                            "hand {i}, bone '{}' came {:.1} mm off its joint: lower the gains or \
+                             the time step",
+                            h.setup.hand.bones()[k].name,
+                            gap * 1e3
+                        ),
+                    });
+                }
+            }
             for (k, body) in h.body.bone_bodies().iter().enumerate() {
                 if runaway(&self.world.bodies[*body]) {
                     let bone = &h.setup.hand.bones()[k];

@@ -175,8 +175,9 @@ fn at_rest_under_gravity_the_springs_act_through_the_whole_inertia_block() {
     let gravity = Vec3::new(0.0, 0.0, -1.0);
     let mut sim = Simulation::new(Settings {
         gravity,
-        // Converged joints: at the default 4 substeps the motors hold a static load with up to
-        // 1.4× the sag their gains give (docs/PERFORMANCE.md), which would hide the cross terms.
+        // Converged joints: with the default solver at 1 ms the motors hold a static load with
+        // up to 1.12× the sag their gains give (docs/PERFORMANCE.md), which would blur the
+        // cross terms.
         solver_iterations: 20,
         ..Settings::default()
     })

@@ -153,15 +153,46 @@ fn absurd_gains_are_caught_as_divergence_naming_the_bone() {
 }
 
 #[test]
-fn substeps_follow_the_step_length() {
-    assert_eq!(Settings::iterations_for(0.0002), 1, "the paper's step");
-    assert_eq!(Settings::iterations_for(0.0005), 1);
-    assert_eq!(Settings::iterations_for(0.001), 2);
-    assert_eq!(Settings::default().solver_iterations, 2);
-    assert_eq!(Settings::default().inner_iterations, 3);
-    assert_eq!(Settings::iterations_for(0.0025), 5);
-    assert_eq!(Settings::iterations_for(f64::NAN), 1);
+fn a_bone_pulled_off_its_joint_is_found_with_its_gap() {
+    use prehensile_sim::ArticulatedHand;
+    use rapier3d_f64::prelude::{Group, PhysicsWorld, Vector};
+    let hand = human();
+    let mut world = PhysicsWorld::new();
+    let q = vec![0.0; hand.dof_count()];
+    let body = ArticulatedHand::insert(
+        &hand,
+        &mut world,
+        &Transform::identity(),
+        &q,
+        Group::GROUP_2,
+        1.0,
+    );
+    let (_, gap) = body.widest_joint_gap(&world).unwrap();
+    assert!(gap < 1e-9, "as built, every bone sits on its joint ({gap} m)");
+    let tip = hand.bones().len() - 1;
+    let handle = body.bone_bodies()[tip];
+    let mut pose = *world.bodies[handle].position();
+    pose.translation += Vector::new(0.0, 0.006, 0.008);
+    world.bodies[handle].set_position(pose, true);
+    let (bone, gap) = body.widest_joint_gap(&world).unwrap();
+    assert_eq!(bone, tip);
+    assert!((gap - 0.010).abs() < 1e-9, "{gap} m");
+}
+
+#[test]
+fn the_solver_follows_the_step_length() {
+    let solver = |dt: f64| {
+        let s = Settings::for_step(dt);
+        (s.solver_iterations, s.inner_iterations)
+    };
+    assert_eq!(solver(0.0002), (1, 3), "the paper's step");
+    assert_eq!(solver(0.0005), (1, 4));
+    assert_eq!(solver(0.001), (1, 8));
+    assert_eq!(solver(0.0025), (3, 7), "substeps of 0.83 ms");
+    assert_eq!(solver(0.01), (10, 8));
+    assert_eq!(solver(f64::NAN), (1, 3));
     assert_eq!(Settings::iterations_for(1.0), 100, "capped");
+    assert_eq!(Settings::default(), Settings::for_step(0.001));
 }
 
 #[test]
@@ -352,8 +383,7 @@ fn the_benchmark_scene_holds_its_object_still() {
         None,
     )
     .unwrap();
-    let mut sim =
-        scenarios::held_still(&human(), &sphere, 1e-3, Settings::iterations_for(1e-3)).unwrap();
+    let mut sim = scenarios::held_still(&human(), &sphere, Settings::for_step(1e-3)).unwrap();
     let before = sim.object_pose().unwrap().translation.vector;
     for _ in 0..200 {
         sim.step().unwrap();

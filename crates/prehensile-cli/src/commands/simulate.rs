@@ -35,14 +35,15 @@ pub fn run(args: &SimulateArgs) -> Result<i32, CliError> {
         objects,
         alpha: args.alpha,
         settings: Settings {
-            dt: args.dt,
             friction: args.friction,
             object_density: args.density,
             solver_iterations: args
                 .iterations
                 .unwrap_or_else(|| Settings::iterations_for(args.dt)),
-            inner_iterations: args.inner_iterations,
-            ..Settings::default()
+            inner_iterations: args
+                .inner_iterations
+                .unwrap_or_else(|| Settings::inner_iterations_for(args.dt)),
+            ..Settings::for_step(args.dt)
         },
         seconds: args.seconds,
     };

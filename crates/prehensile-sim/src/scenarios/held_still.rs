@@ -10,13 +10,13 @@ use super::{grasp_arm, plan_grasp, GraspTimes};
 use crate::simulation::{DistanceTo, HandSetup, Settings, Simulation};
 use crate::SimError;
 
-/// `hand` gripping `object` with grip strength 0.5, stepped at `dt` with `substeps` solver
-/// substeps, returned 50 ms after the object was let go into the closed hand.
+/// `hand` gripping `object` with grip strength 0.5, stepped with `settings` (whose gravity is
+/// replaced by one pressing the object into the palm), returned 50 ms after the object was let
+/// go into the closed hand.
 pub fn held_still(
     hand: &HandModel,
     object: &ObjectModel,
-    dt: f64,
-    substeps: usize,
+    settings: Settings,
 ) -> Result<Simulation, SimError> {
     let grasp = plan_grasp(hand, object)?;
     // Gravity presses the object into the palm (against the approach).
@@ -32,10 +32,8 @@ pub fn held_still(
         ..GraspTimes::default()
     };
     let mut sim = Simulation::new(Settings {
-        dt,
-        solver_iterations: substeps,
         gravity,
-        ..Settings::default()
+        ..settings
     })?;
     sim.add_object(object, &Transform::identity(), true)?;
     sim.add_hand(HandSetup {
