@@ -168,7 +168,10 @@ fn a_bone_pulled_off_its_joint_is_found_with_its_gap() {
         1.0,
     );
     let (_, gap) = body.widest_joint_gap(&world).unwrap();
-    assert!(gap < 1e-9, "as built, every bone sits on its joint ({gap} m)");
+    assert!(
+        gap < 1e-9,
+        "as built, every bone sits on its joint ({gap} m)"
+    );
     let tip = hand.bones().len() - 1;
     let handle = body.bone_bodies()[tip];
     let mut pose = *world.bodies[handle].position();
