@@ -162,10 +162,17 @@ fn velocity_setpoints_turn_a_ball_joint_the_right_way() {
     }
 }
 
-#[test]
-fn at_rest_under_gravity_the_springs_act_through_the_whole_inertia_block() {
-    // The passive hand sags until I·k_S·(θ_N − θ) holds gravity, with I each ball joint's whole
-    // 3×3 block (Eq. 3). Gravity is weak enough to keep every joint inside its limits.
+/// The passive ball-jointed hand, palm tilted, at rest after 3 s under a gravity of 1 m/s²
+/// (weak enough to keep every joint inside its limits), stepped with `settings`: its neutral
+/// pose, the pose it sagged to, and the gravity torques on its joints there.
+struct AtRest {
+    hand: HandModel,
+    neutral: Vec<f64>,
+    q: Vec<f64>,
+    gravity_torques: nalgebra::DVector<f64>,
+}
+
+fn at_rest_under_weak_gravity(settings: Settings) -> AtRest {
     let hand = ball_hand();
     let neutral = pose(&hand, [0.3, -0.25, 0.2], 0.5);
     let root = Transform::from_parts(
@@ -175,11 +182,7 @@ fn at_rest_under_gravity_the_springs_act_through_the_whole_inertia_block() {
     let gravity = Vec3::new(0.0, 0.0, -1.0);
     let mut sim = Simulation::new(Settings {
         gravity,
-        // Converged joints: with the default solver at 1 ms the motors hold a static load with
-        // up to 1.12× the sag their gains give (docs/PERFORMANCE.md), which would blur the
-        // cross terms.
-        solver_iterations: 20,
-        ..Settings::default()
+        ..settings
     })
     .unwrap();
     sim.add_hand(passive(&hand, root, &neutral, &neutral))
@@ -188,7 +191,31 @@ fn at_rest_under_gravity_the_springs_act_through_the_whole_inertia_block() {
         sim.step().unwrap();
     }
     let q = sim.joint_angles(0).to_vec();
-    let hold = gravity_torques(&hand, &q, root.rotation.inverse() * gravity).unwrap();
+    let gravity_torques = gravity_torques(&hand, &q, root.rotation.inverse() * gravity).unwrap();
+    AtRest {
+        hand,
+        neutral,
+        q,
+        gravity_torques,
+    }
+}
+
+#[test]
+fn at_rest_under_gravity_the_springs_act_through_the_whole_inertia_block() {
+    // The passive hand sags until I·k_S·(θ_N − θ) holds gravity, with I each ball joint's whole
+    // 3×3 block (Eq. 3).
+    let AtRest {
+        hand,
+        neutral,
+        q,
+        gravity_torques: hold,
+    } = at_rest_under_weak_gravity(Settings {
+        // Converged joints: with the default solver at 1 ms the motors hold a static load with
+        // up to 1.12× the sag their gains give (docs/PERFORMANCE.md), which would blur the
+        // cross terms.
+        solver_iterations: 20,
+        ..Settings::default()
+    });
     let inertia = outboard_inertia(&hand, &q).unwrap();
     let unit: Vec<f64> = (0..q.len())
         .map(|k| Gains::default().k_s * (neutral[k] - q[k]))
@@ -216,25 +243,12 @@ fn with_the_default_solver_a_static_load_sags_about_as_far_as_the_gains_say() {
     // at every joint carrying at least a fifth of the largest gravity torque. The default at
     // 1 ms (one substep of 8 sweeps) stays within 0.96–1.12 of it; the former two substeps of
     // 3 sweeps reached 1.28.
-    let hand = ball_hand();
-    let neutral = pose(&hand, [0.3, -0.25, 0.2], 0.5);
-    let root = Transform::from_parts(
-        Vec3::zeros().into(),
-        Rotation::from_euler_angles(1.2, 0.4, 0.3),
-    );
-    let gravity = Vec3::new(0.0, 0.0, -1.0);
-    let mut sim = Simulation::new(Settings {
-        gravity,
-        ..Settings::for_step(0.001)
-    })
-    .unwrap();
-    sim.add_hand(passive(&hand, root, &neutral, &neutral))
-        .unwrap();
-    for _ in 0..3000 {
-        sim.step().unwrap();
-    }
-    let q = sim.joint_angles(0).to_vec();
-    let hold = gravity_torques(&hand, &q, root.rotation.inverse() * gravity).unwrap();
+    let AtRest {
+        hand,
+        neutral,
+        q,
+        gravity_torques: hold,
+    } = at_rest_under_weak_gravity(Settings::for_step(0.001));
     let expected = outboard_inertia(&hand, &q).unwrap().solve(hold.as_slice());
     let largest = hold.amax();
     let loaded: Vec<usize> = (0..q.len())
