@@ -138,11 +138,16 @@ impl GraspMovement {
 
     /// The generic movement every hand gets: from the open pose (all angles zero, clamped into the
     /// limits) to every flexion at its upper limit; grasp center between the fingertips half-way.
+    /// A ball joint flexes like a hinge, about its bone's −x axis (z along the bone, y toward
+    /// where it flexes), as far as the lower limit of its x component allows; it neither
+    /// abducts nor twists.
     pub fn generic_close(hand: &HandModel) -> Self {
         let mut end = vec![0.0; hand.dof_count()];
         for bone in hand.bones().iter().skip(1) {
-            if bone.joint.dofs() > 0 && !matches!(bone.joint, crate::hand::Joint::Ball { .. }) {
-                end[bone.first_dof] = bone.joint.limits(0)[1];
+            match bone.joint {
+                crate::hand::Joint::Fixed => {}
+                crate::hand::Joint::Ball { limits } => end[bone.first_dof] = limits[0][0],
+                _ => end[bone.first_dof] = bone.joint.limits(0)[1],
             }
         }
         Self::close_to(hand, end)

@@ -6,6 +6,7 @@ mod common;
 
 use std::time::Duration;
 
+use prehensile_core::hand::Joint;
 use prehensile_core::math::{Point3, Vec3};
 use prehensile_core::search::{
     Evaluation, GraspPlanner, GraspResult, PlannerStatus, SearchError, SearchParams, SearchSink,
@@ -133,6 +134,25 @@ fn non_human_hands_grasp_every_builtin_object() {
                 assert_grasp(&object, &r, &format!("{hand_name} {name} shoulder {i}"));
             }
         }
+    }
+}
+
+#[test]
+fn a_hand_with_only_ball_joints_closes_them_and_grasps_every_builtin_object() {
+    // robot3 with every finger joint a ball joint: the generic `close` flexes each about its
+    // bone's −x axis, as a hinge flexes, to its x component's limit.
+    let path = common::repo_path("assets/hands/robot3_ball.toml");
+    let hand = prehensile_formats::load_hand(&path).unwrap();
+    let close = hand.movement("close").unwrap();
+    for bone in hand.bones().iter().skip(1) {
+        assert!(matches!(bone.joint, Joint::Ball { .. }), "{}", bone.name);
+        let end = &close.end_angles()[bone.first_dof..bone.first_dof + 3];
+        assert_eq!(end, [-60f64.to_radians(), 0.0, 0.0], "{}", bone.name);
+    }
+    for name in BUILTIN_OBJECTS {
+        let object = common::object(name);
+        let r = search(&hand, &object, "close", SHOULDERS[0], 1);
+        assert_grasp(&object, &r, &format!("ball-jointed robot3, {name}"));
     }
 }
 

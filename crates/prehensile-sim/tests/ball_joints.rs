@@ -282,3 +282,35 @@ fn every_degree_of_freedom_has_its_joints_limits_in_order() {
         );
     }
 }
+
+#[test]
+fn a_hand_with_only_ball_joints_grasps_lifts_and_carries_the_sphere() {
+    // The whole path: the grasp search closes the ball joints, the example motion and the fitted
+    // controller carry them, and the simulated hand lifts the sphere.
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let hand =
+        prehensile_formats::load_hand(&dir.join("../../assets/hands/robot3_ball.toml")).unwrap();
+    let sphere = prehensile_core::ObjectModel::new(
+        "sphere",
+        prehensile_core::shapes::builtin_object("sphere").unwrap(),
+        None,
+    )
+    .unwrap();
+    let options = prehensile_sim::scenarios::Options {
+        hand,
+        objects: vec![sphere],
+        alpha: 0.5,
+        settings: Settings::default(),
+        seconds: None,
+    };
+    let (report, _) = prehensile_sim::scenarios::run(
+        prehensile_sim::scenarios::Scenario::Grasp,
+        &options,
+        &mut |_, _| {},
+    )
+    .unwrap();
+    let case = &report.cases[0];
+    assert!(case.finite, "{case:?}");
+    assert_eq!(case.held, Some(true), "{case:?}");
+    assert!(case.metrics["object_rise_m"] > 0.08, "{case:?}");
+}
