@@ -59,14 +59,15 @@ impl BodyInertia {
     /// need no division).
     fn in_parent(&self, to_bone: &Matrix3<f64>, origin: &Vec3) -> Self {
         let moment = to_bone.transpose() * self.moment;
-        let (r, h) = (skew(origin), skew(&moment));
+        // −m[r]×² − [r]×[h]× − [h]×[r]×, with [a]×[b]× = b·aᵀ − (a·b)·1.
+        let (r, m) = (origin, self.mass);
+        let shift = Matrix3::from_diagonal_element(m * r.norm_squared() + 2.0 * r.dot(&moment))
+            - r * (r * m + moment).transpose()
+            - moment * r.transpose();
         Self {
-            mass: self.mass,
-            moment: moment + origin * self.mass,
-            rotational: to_bone.transpose() * self.rotational * to_bone
-                - r * r * self.mass
-                - r * h
-                - h * r,
+            mass: m,
+            moment: moment + r * m,
+            rotational: to_bone.tr_mul(&(self.rotational * to_bone)) + shift,
         }
     }
 

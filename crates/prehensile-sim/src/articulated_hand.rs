@@ -252,35 +252,41 @@ impl ArticulatedHand {
     /// a solver that has lost the hand shows it here even when rapier's velocity caps keep
     /// every number finite.
     pub fn widest_joint_gap(&self, world: &PhysicsWorld) -> Option<(usize, f64)> {
-        let frame = |h: RigidBodyHandle| convert::transform(world.bodies[h].position());
+        let frames: Vec<Transform> = self
+            .bones
+            .iter()
+            .map(|h| convert::transform(world.bodies[*h].position()))
+            .collect();
         self.hand
             .bones()
             .iter()
             .enumerate()
             .filter_map(|(k, bone)| {
-                let parent = bone.parent?;
-                let held_at = frame(self.bones[parent]) * bone.rest;
-                let gap =
-                    (frame(self.bones[k]).translation.vector - held_at.translation.vector).norm();
-                Some((k, gap))
+                let held_at = frames[bone.parent?] * Point3::from(bone.rest.translation.vector);
+                Some((
+                    k,
+                    (Point3::from(frames[k].translation.vector) - held_at).norm(),
+                ))
             })
             .max_by(|a, b| a.1.total_cmp(&b.1))
     }
 
     /// Joint angles and rates of every degree of freedom, read from the bodies.
     pub fn state(&self, world: &PhysicsWorld, q: &mut [f64], qd: &mut [f64]) {
-        let frame = |h: RigidBodyHandle| convert::transform(world.bodies[h].position());
+        let turns: Vec<Rotation> = self
+            .bones
+            .iter()
+            .map(|h| convert::transform(world.bodies[*h].position()).rotation)
+            .collect();
         for (k, bone) in self.hand.bones().iter().enumerate() {
             let Some(parent) = bone.parent else { continue };
             let n = bone.joint.dofs();
             if n == 0 {
                 continue;
             }
-            let relative = (frame(self.bones[parent]) * bone.rest).inverse() * frame(self.bones[k]);
-            bone.joint.angles(
-                &relative.rotation,
-                &mut q[bone.first_dof..bone.first_dof + n],
-            );
+            let relative = (turns[parent] * bone.rest.rotation).inverse() * turns[k];
+            bone.joint
+                .angles(&relative, &mut q[bone.first_dof..bone.first_dof + n]);
         }
         for (k, dof) in self.dofs.iter().enumerate() {
             let child = &world.bodies[dof.child];
