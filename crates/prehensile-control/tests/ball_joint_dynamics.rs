@@ -5,6 +5,8 @@
 //! the rest of the hand still, and power: the torques' power is the kinetic energy's rate. And
 //! fitting: a controller is recovered from a motion it produced.
 
+mod common;
+
 use nalgebra::DVector;
 use prehensile_control::{gravity_torques, inverse_dynamics, mass_matrix, outboard_inertia};
 use prehensile_core::hand::Joint;
@@ -239,9 +241,7 @@ fn two_setpoints(n: usize, a: &[f64], b: &[f64]) -> prehensile_control::Setpoint
 
 #[test]
 fn active_setpoints_of_ball_joints_are_recovered_from_a_simulated_motion() {
-    use prehensile_control::{
-        fit_active, forward_dynamics, BaseMotion, Gains, GraspController, GraspState,
-    };
+    use prehensile_control::{fit_active, BaseMotion, Gains, GraspController, GraspState};
     let hand = ball_hand();
     let n = hand.dof_count();
     let gains = Gains::grasp();
@@ -252,20 +252,12 @@ fn active_setpoints_of_ball_joints_are_recovered_from_a_simulated_motion() {
     let mut controller = GraspController::new(gains, truth.clone());
     controller.state = GraspState::Opening;
     // 0.25 s of the Opening blend; ball joints turn by R ← R·exp(ω dt), ω in the bone's frame.
-    let (dt, steps) = (5e-4, 500);
-    let (mut q, mut qd) = (start.clone(), vec![0.0; n]);
-    let (mut frames, mut blends) = (Vec::new(), Vec::new());
-    for s in 0..steps {
-        let distance = 0.3 - 0.25 * s as f64 / steps as f64;
-        let tau = controller
-            .torques(&hand, &q, &qd, &base, distance, false, true)
-            .unwrap();
-        frames.push(q.clone());
-        blends.push(GraspState::Opening.blend(distance, 0.0, &gains));
-        let qdd = forward_dynamics(&hand, &q, &qd, tau.as_slice(), &base).unwrap();
-        for k in 0..n {
-            qd[k] += dt * qdd[k];
-        }
+    let common::Motion {
+        dt,
+        frames,
+        blends,
+        last: q,
+    } = common::opening_motion(&hand, &mut controller, &base, &start, |q, qd, dt| {
         for bone in hand.bones() {
             let f = bone.first_dof;
             match bone.joint {
@@ -277,7 +269,7 @@ fn active_setpoints_of_ball_joints_are_recovered_from_a_simulated_motion() {
                 _ => (f..f + bone.joint.dofs()).for_each(|k| q[k] += dt * qd[k]),
             }
         }
-    }
+    });
     let moved = (0..n).map(|k| (q[k] - start[k]).abs()).fold(0.0, f64::max);
     assert!(moved > 0.1, "the motion must turn the joints: {moved} rad");
     let mut fitted = two_setpoints(n, &vec![0.0; n], &vec![0.0; n]);

@@ -1,5 +1,7 @@
 //! The controller's torque laws, blends and state machine (Pollard & Zordan, Eq. 3–16, Fig. 3).
 
+mod common;
+
 use prehensile_control::{
     active_torque, gravity_torques, outboard_inertia, passive_torque, BaseMotion, Gains,
     GraspController, GraspState, OutboardInertia, Setpoints,
@@ -214,7 +216,7 @@ fn passive_parameters_fit_from_a_bvh_motion() {
 
 #[test]
 fn active_setpoints_fitted_from_a_simulated_motion_recover_the_controller() {
-    use prehensile_control::{fit_active, forward_dynamics};
+    use prehensile_control::fit_active;
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
     let hand =
         prehensile_formats::load_hand(&dir.join("../../assets/hands/urdf/hand_tree_public.urdf"))
@@ -232,23 +234,18 @@ fn active_setpoints_fitted_from_a_simulated_motion_recover_the_controller() {
     let mut controller = GraspController::new(gains, truth.clone());
     controller.state = GraspState::Opening;
     // Simulate 0.25 s while the object comes from 30 cm to 5 cm (state Opening throughout).
-    let (dt, steps) = (5e-4, 500);
-    let (mut q, mut qd) = (vec![0.05; n], vec![0.0; n]);
-    let (mut frames, mut blends) = (Vec::new(), Vec::new());
-    for s in 0..steps {
-        let distance = 0.3 - 0.25 * s as f64 / steps as f64;
-        let tau = controller
-            .torques(&hand, &q, &qd, &base, distance, false, true)
-            .unwrap();
-        assert_eq!(controller.state, GraspState::Opening);
-        frames.push(q.clone());
-        blends.push(GraspState::Opening.blend(distance, 0.0, &gains));
-        let qdd = forward_dynamics(&hand, &q, &qd, tau.as_slice(), &base).unwrap();
-        for k in 0..n {
-            qd[k] += dt * qdd[k];
-            q[k] += dt * qd[k];
-        }
-    }
+    let common::Motion {
+        dt,
+        frames,
+        blends,
+        last: q,
+    } = common::opening_motion(
+        &hand,
+        &mut controller,
+        &base,
+        &vec![0.05; n],
+        |q, qd, dt| q.iter_mut().zip(qd).for_each(|(q, qd)| *q += dt * qd),
+    );
     assert!(q.iter().all(|x| x.is_finite()));
     // Fit from the motion alone (the passive parameters are known).
     let mut fitted = setpoints(n);
