@@ -10,30 +10,10 @@ ratio A/B above 1 means B is faster. Standard library only.
 import argparse
 import pathlib
 import statistics
-import subprocess
-import sys
+
+from step_timing_client import StepTiming
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
-
-
-class StepTiming:
-    """One step_timing process, started once and asked for timings."""
-
-    def __init__(self, binary: str, hand: str, dt: str):
-        self.dt = dt
-        self.process = subprocess.Popen(
-            [binary, hand, dt], stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True
-        )
-        if self.process.stdout.readline().strip() != "ready":
-            sys.exit(f"{binary} did not start (see its error above)")
-
-    def step_us(self, steps: int) -> float:
-        self.process.stdin.write(f"{self.dt} {steps}\n")
-        self.process.stdin.flush()
-        answer = self.process.stdout.readline()
-        if not answer:
-            sys.exit("step_timing stopped (see its error above)")
-        return float(answer)
 
 
 def main():
@@ -46,13 +26,13 @@ def main():
     args = parser.parse_args()
     if args.pairs < 2:
         parser.error("--pairs must be at least 2")
-    a, b = StepTiming(args.a, args.hand, args.dt), StepTiming(args.b, args.hand, args.dt)
-    a.step_us(2000)  # warm up both
-    b.step_us(2000)
+    a, b = (StepTiming(binary, args.hand, [args.dt]) for binary in (args.a, args.b))
+    a.step_us(args.dt, 2000)  # warm up both
+    b.step_us(args.dt, 2000)
     times_a, times_b = [], []
     for _ in range(args.pairs):
-        times_a.append(a.step_us(1000))
-        times_b.append(b.step_us(1000))
+        times_a.append(a.step_us(args.dt, 1000))
+        times_b.append(b.step_us(args.dt, 1000))
     ratios = [x / y for x, y in zip(times_a, times_b)]
     low, _, high = statistics.quantiles(ratios, n=4)
     print(

@@ -28,6 +28,8 @@ import time
 import xml.etree.ElementTree as ET
 
 import mujoco
+
+from step_timing_client import StepTiming
 import numpy as np
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -110,29 +112,15 @@ def sphere_position(model, data):
     return data.qpos[model.jnt_qposadr[model.joint("object").id] :][:3].copy()
 
 
-class Prehensile:
-    """The step_timing example, built and started once, answering timing requests."""
-
-    def __init__(self):
-        subprocess.run(
-            ["cargo", "build", "--release", "-p", "prehensile-sim", "--example", "step_timing"],
-            cwd=ROOT, check=True,
-        )
-        self.process = subprocess.Popen(
-            [str(ROOT / "target/release/examples/step_timing"), str(HAND / "reach.xml")]
-            + [str(dt) for dt in STEPS],
-            cwd=ROOT, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
-        )
-        if self.process.stdout.readline().strip() != "ready":
-            sys.exit("step_timing did not start (see its error above)")
-
-    def step_us(self, dt: float, steps: int) -> float:
-        self.process.stdin.write(f"{dt} {steps}\n")
-        self.process.stdin.flush()
-        answer = self.process.stdout.readline()
-        if not answer:
-            sys.exit("step_timing stopped (see its error above)")
-        return float(answer)
+def prehensile() -> StepTiming:
+    """The step_timing example, built and started once for every step length."""
+    subprocess.run(
+        ["cargo", "build", "--release", "-p", "prehensile-sim", "--example", "step_timing"],
+        cwd=ROOT, check=True,
+    )
+    return StepTiming(
+        ROOT / "target/release/examples/step_timing", HAND / "reach.xml", STEPS, cwd=ROOT
+    )
 
 
 def quartiles(values):
@@ -146,7 +134,7 @@ def main():
     pairs = parser.parse_args().pairs
     if pairs < 2:
         parser.error("--pairs must be at least 2")
-    ours_engine = Prehensile()
+    ours_engine = prehensile()
     with tempfile.TemporaryDirectory() as directory:
         path = stripped_scene(pathlib.Path(directory))
         scenes = {dt: gripping(path, dt) for dt in STEPS}
@@ -171,8 +159,7 @@ def main():
             f"   (MuJoCo: {hand_contacts(model, data)} sphere contacts, sphere moved"
             f" {drift * 1e3:.1f} mm while timed)"
         )
-    ours_engine.process.stdin.close()
-    ours_engine.process.wait()
+    ours_engine.close()
 
 
 if __name__ == "__main__":
