@@ -247,16 +247,20 @@ impl ArticulatedHand {
         &self.collider_bones
     }
 
+    /// Every bone body's pose in the world, in bone order.
+    fn bone_frames(&self, world: &PhysicsWorld) -> Vec<Transform> {
+        self.bones
+            .iter()
+            .map(|h| convert::transform(world.bodies[*h].position()))
+            .collect()
+    }
+
     /// The bone whose origin is farthest from where its joint holds it on its parent, and that
     /// distance in metres (`None` for a hand without joints). The joints keep this near zero;
     /// a solver that has lost the hand shows it here even when rapier's velocity caps keep
     /// every number finite.
     pub fn widest_joint_gap(&self, world: &PhysicsWorld) -> Option<(usize, f64)> {
-        let frames: Vec<Transform> = self
-            .bones
-            .iter()
-            .map(|h| convert::transform(world.bodies[*h].position()))
-            .collect();
+        let frames = self.bone_frames(world);
         self.hand
             .bones()
             .iter()
@@ -273,18 +277,15 @@ impl ArticulatedHand {
 
     /// Joint angles and rates of every degree of freedom, read from the bodies.
     pub fn state(&self, world: &PhysicsWorld, q: &mut [f64], qd: &mut [f64]) {
-        let turns: Vec<Rotation> = self
-            .bones
-            .iter()
-            .map(|h| convert::transform(world.bodies[*h].position()).rotation)
-            .collect();
+        let frames = self.bone_frames(world);
         for (k, bone) in self.hand.bones().iter().enumerate() {
             let Some(parent) = bone.parent else { continue };
             let n = bone.joint.dofs();
             if n == 0 {
                 continue;
             }
-            let relative = (turns[parent] * bone.rest.rotation).inverse() * turns[k];
+            let relative =
+                (frames[parent].rotation * bone.rest.rotation).inverse() * frames[k].rotation;
             bone.joint
                 .angles(&relative, &mut q[bone.first_dof..bone.first_dof + n]);
         }

@@ -510,12 +510,12 @@ impl Simulation {
             let c = self.contacts(i);
             self.max_penetration = self.max_penetration.max(c.penetration);
         }
-        self.check_finite()
+        self.check_diverged()
     }
 
     /// Stops at the first bone off its joint, non-finite or runaway body, naming the bone (or
     /// the object).
-    fn check_finite(&mut self) -> Result<(), SimError> {
+    fn check_diverged(&mut self) -> Result<(), SimError> {
         // Faster than anything a hand does: 2000 rad/s, 50 m/s.
         let runaway = |b: &rapier3d_f64::prelude::RigidBody| {
             let p = b.position();
