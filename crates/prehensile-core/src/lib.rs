@@ -27,6 +27,7 @@ pub mod movement;
 pub mod object;
 pub mod search;
 pub mod shapes;
+pub mod stability;
 pub mod workspace;
 
 pub use collision::{Capsule, CollisionCounters};

@@ -8,7 +8,7 @@ mod signed_distance_grid;
 mod triangle_bvh;
 
 pub use signed_distance_grid::{Decision, SignedDistanceGrid};
-pub use triangle_bvh::TriangleBvh;
+pub use triangle_bvh::{SurfacePoint, TriangleBvh};
 
 use crate::math::Point3;
 use crate::mesh::TriangleMesh;

@@ -14,6 +14,17 @@ use crate::geometry::{
 use crate::math::{Point3, Vec3};
 use crate::mesh::TriangleMesh;
 
+/// A point on the surface with its outward pseudo-normal.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfacePoint {
+    /// The surface point.
+    pub point: Point3,
+    /// Outward unit pseudo-normal of the feature (face, edge or vertex) the point lies on.
+    pub normal: Vec3,
+    /// Signed distance from the query point: positive outside, negative inside.
+    pub signed_distance: f64,
+}
+
 /// Triangles per leaf at most.
 const LEAF_SIZE: usize = 4;
 /// Traversal stack depth; a median-split tree over 20 million triangles is about 24 deep.
@@ -167,6 +178,19 @@ impl TriangleBvh {
 
     /// Exact signed distance from `p` if the surface is within `max` of it, else `None`.
     pub fn signed_distance_within(&self, p: &Point3, max: f64) -> Option<f64> {
+        self.nearest_triangle(p, max)
+            .map(|t| self.signed_distance_to_triangle(p, t))
+    }
+
+    /// The surface point nearest to `p` if it is within `max`, with the pseudo-normal of the
+    /// feature it lies on (outward) and the signed distance from `p`.
+    pub fn closest_point_within(&self, p: &Point3, max: f64) -> Option<SurfacePoint> {
+        self.nearest_triangle(p, max)
+            .map(|t| self.surface_point_on_triangle(p, t))
+    }
+
+    /// Index of a triangle nearest to `p` if one is within `max`.
+    fn nearest_triangle(&self, p: &Point3, max: f64) -> Option<usize> {
         let mut best = if max.is_finite() {
             max * max
         } else {
@@ -203,27 +227,34 @@ impl TriangleBvh {
                 top += 2;
             }
         }
-        if best_t == usize::MAX {
-            return None;
-        }
-        Some(self.signed_distance_to_triangle(p, best_t))
+        (best_t != usize::MAX).then_some(best_t)
     }
 
     /// Signed distance from `p` to triangle `t`, signed by the pseudo-normal of the feature
     /// nearest to `p`; equals the mesh's signed distance when `t` is a nearest triangle.
     pub(crate) fn signed_distance_to_triangle(&self, p: &Point3, t: usize) -> f64 {
+        self.surface_point_on_triangle(p, t).signed_distance
+    }
+
+    /// The point of triangle `t` nearest to `p`, with the pseudo-normal of its feature.
+    fn surface_point_on_triangle(&self, p: &Point3, t: usize) -> SurfacePoint {
         let [a, b, c] = &self.corners[t];
-        let (q, feature) = closest_point_on_triangle(p, a, b, c);
+        let (point, feature) = closest_point_on_triangle(p, a, b, c);
         let normal = match feature {
             TriangleFeature::Face => self.face_normals[t],
             TriangleFeature::Edge(k) => self.edge_normals[t][k as usize],
             TriangleFeature::Vertex(k) => self.vertex_normals[t][k as usize],
         };
-        let d = (q - p).norm();
-        if (p - q).dot(&normal) < 0.0 {
+        let d = (point - p).norm();
+        let signed_distance = if (p - point).dot(&normal) < 0.0 {
             -d
         } else {
             d
+        };
+        SurfacePoint {
+            point,
+            normal,
+            signed_distance,
         }
     }
 

@@ -1,0 +1,374 @@
+//! Convex hull of points in `D` dimensions (incremental beneath–beyond with simplicial facets),
+//! for the 6-D grasp wrench space.
+//!
+//! Written by hand because no well-kept pure-Rust crate builds hulls above three dimensions: the
+//! `qhull` bindings compile C, capture errors through temporary files and do not build for
+//! wasm32, and `chull` supports 2-D and 3-D only. Checked against scipy's Qhull
+//! (`tools/oracle/stability_oracle.py`) to 1e-9 on 6-D wrench sets.
+//!
+//! Each point is added in turn: the facets it sees are removed and every ridge on the border of
+//! the removed set (the horizon) is joined to the point. A facet's hyperplane is recomputed from
+//! its vertices, and points within a tolerance of a facet count as not seen, so nearly coplanar
+//! input (a friction cone's edges) yields a hull that is exact to that tolerance. Buffers are
+//! kept between calls: a warm hull allocates only when it grows larger than before.
+
+/// One facet: `D` vertices (indices into the input, sorted), the unit outward normal and the
+/// offset, so that every point `x` of the hull has `normal · x <= offset`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HullFacet<const D: usize> {
+    /// Input indices of the facet's vertices, ascending.
+    pub vertices: [u32; D],
+    /// Unit outward normal.
+    pub normal: [f64; D],
+    /// Signed distance of the hyperplane from the origin along `normal`.
+    pub offset: f64,
+}
+
+/// Why a hull cannot be built.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum HullError {
+    /// Fewer than `D + 1` points.
+    #[error("{points} points cannot span {dimension} dimensions")]
+    TooFewPoints {
+        /// Points given.
+        points: usize,
+        /// Dimension of the space.
+        dimension: usize,
+    },
+    /// The points lie in an affine subspace of lower dimension.
+    #[error("the points span only {span} of {dimension} dimensions")]
+    Flat {
+        /// Dimension of their affine span.
+        span: usize,
+        /// Dimension of the space.
+        dimension: usize,
+    },
+    /// A coordinate is NaN or infinite.
+    #[error("a point has a coordinate that is not finite")]
+    NotFinite,
+}
+
+/// A convex hull with its buffers, reusable across calls.
+#[derive(Debug, Clone, Default)]
+pub struct ConvexHull<const D: usize> {
+    facets: Vec<HullFacet<D>>,
+    visible: Vec<usize>,
+    ridges: Vec<([u32; D], usize)>,
+    order: Vec<u32>,
+    interior: Vec<f64>,
+}
+
+impl<const D: usize> ConvexHull<D> {
+    /// An empty hull.
+    pub fn new() -> Self {
+        Self {
+            facets: Vec::new(),
+            visible: Vec::new(),
+            ridges: Vec::new(),
+            order: Vec::new(),
+            interior: vec![0.0; D],
+        }
+    }
+
+    /// The facets of the last successful [`ConvexHull::compute`].
+    pub fn facets(&self) -> &[HullFacet<D>] {
+        &self.facets
+    }
+
+    /// A point strictly inside the last hull (the centroid of its first simplex).
+    pub fn interior_point(&self) -> [f64; D] {
+        std::array::from_fn(|k| self.interior.get(k).copied().unwrap_or(0.0))
+    }
+
+    /// Builds the hull of `points`, replacing the previous one.
+    pub fn compute(&mut self, points: &[[f64; D]]) -> Result<(), HullError> {
+        self.facets.clear();
+        if points.len() < D + 1 {
+            return Err(HullError::TooFewPoints {
+                points: points.len(),
+                dimension: D,
+            });
+        }
+        if points.iter().flatten().any(|c| !c.is_finite()) {
+            return Err(HullError::NotFinite);
+        }
+        let scale = points
+            .iter()
+            .flatten()
+            .fold(0.0f64, |m, c| m.max(c.abs()))
+            .max(f64::MIN_POSITIVE);
+        let span_tolerance = 1e-9 * scale;
+        let see_tolerance = 1e-11 * scale;
+
+        let simplex = initial_simplex(points, span_tolerance)?;
+        self.interior.clear();
+        self.interior.resize(D, 0.0);
+        for &i in &simplex {
+            for k in 0..D {
+                self.interior[k] += points[i as usize][k] / (D + 1) as f64;
+            }
+        }
+        let interior = self.interior_point();
+        for skip in 0..=D {
+            let mut vertices = [0u32; D];
+            let mut n = 0;
+            for (j, &v) in simplex.iter().enumerate() {
+                if j != skip {
+                    vertices[n] = v;
+                    n += 1;
+                }
+            }
+            vertices.sort_unstable();
+            self.facets.push(facet(points, vertices, &interior));
+        }
+
+        // Farthest from the interior first: fewer facets are made and removed again.
+        self.order.clear();
+        self.order
+            .extend((0..points.len() as u32).filter(|i| !simplex.contains(i)));
+        let distance = |i: &u32| {
+            let p = &points[*i as usize];
+            (0..D).map(|k| (p[k] - interior[k]).powi(2)).sum::<f64>()
+        };
+        self.order
+            .sort_by(|a, b| distance(b).total_cmp(&distance(a)).then(a.cmp(b)));
+
+        for oi in 0..self.order.len() {
+            let i = self.order[oi];
+            let p = &points[i as usize];
+            self.visible.clear();
+            self.visible.extend(
+                self.facets
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, f)| dot(&f.normal, p) - f.offset > see_tolerance)
+                    .map(|(k, _)| k),
+            );
+            if self.visible.is_empty() {
+                continue;
+            }
+            // Ridges of the seen facets; those seen once border an unseen facet: the horizon.
+            self.ridges.clear();
+            for &k in &self.visible {
+                let vertices = self.facets[k].vertices;
+                for skip in 0..D {
+                    let mut ridge = [u32::MAX; D];
+                    let mut n = 0;
+                    for (j, &v) in vertices.iter().enumerate() {
+                        if j != skip {
+                            ridge[n] = v;
+                            n += 1;
+                        }
+                    }
+                    self.ridges.push((ridge, k));
+                }
+            }
+            self.ridges.sort_unstable_by(|a, b| a.0.cmp(&b.0));
+            for &k in self.visible.iter().rev() {
+                self.facets.swap_remove(k);
+            }
+            let mut r = 0;
+            while r < self.ridges.len() {
+                let mut end = r + 1;
+                while end < self.ridges.len() && self.ridges[end].0 == self.ridges[r].0 {
+                    end += 1;
+                }
+                if end - r == 1 {
+                    let mut vertices = self.ridges[r].0;
+                    vertices[D - 1] = i;
+                    vertices.sort_unstable();
+                    self.facets.push(facet(points, vertices, &interior));
+                }
+                r = end;
+            }
+        }
+        Ok(())
+    }
+}
+
+fn dot<const D: usize>(a: &[f64; D], b: &[f64; D]) -> f64 {
+    (0..D).map(|k| a[k] * b[k]).sum()
+}
+
+/// `D + 1` affinely independent points, each the farthest from the span of those before it.
+fn initial_simplex<const D: usize>(
+    points: &[[f64; D]],
+    tolerance: f64,
+) -> Result<Vec<u32>, HullError> {
+    // The point with the smallest first coordinate (ties: lowest index) starts.
+    let first = (0..points.len())
+        .min_by(|&a, &b| points[a][0].total_cmp(&points[b][0]))
+        .expect("at least D + 1 points");
+    let mut chosen = vec![first as u32];
+    let mut basis: Vec<[f64; D]> = Vec::with_capacity(D);
+    let origin = points[first];
+    while chosen.len() <= D {
+        let mut best = (0.0, usize::MAX, [0.0; D]);
+        for (i, p) in points.iter().enumerate() {
+            let mut r: [f64; D] = std::array::from_fn(|k| p[k] - origin[k]);
+            for q in &basis {
+                let s = dot(&r, q);
+                for k in 0..D {
+                    r[k] -= s * q[k];
+                }
+            }
+            let norm = dot(&r, &r).sqrt();
+            if norm > best.0 {
+                best = (norm, i, r);
+            }
+        }
+        if best.0 <= tolerance {
+            return Err(HullError::Flat {
+                span: chosen.len() - 1,
+                dimension: D,
+            });
+        }
+        let (norm, i, r) = best;
+        basis.push(std::array::from_fn(|k| r[k] / norm));
+        chosen.push(i as u32);
+    }
+    Ok(chosen)
+}
+
+/// The facet through `vertices`, its normal pointing away from `interior`.
+fn facet<const D: usize>(
+    points: &[[f64; D]],
+    vertices: [u32; D],
+    interior: &[f64; D],
+) -> HullFacet<D> {
+    let base = points[vertices[0] as usize];
+    // Orthonormal basis of the facet's directions (modified Gram–Schmidt, twice for accuracy).
+    let mut basis = [[0.0; D]; D];
+    let mut rank = 0;
+    for &v in &vertices[1..] {
+        let p = points[v as usize];
+        let mut r: [f64; D] = std::array::from_fn(|k| p[k] - base[k]);
+        for _ in 0..2 {
+            for q in &basis[..rank] {
+                let s = dot(&r, q);
+                for k in 0..D {
+                    r[k] -= s * q[k];
+                }
+            }
+        }
+        let norm = dot(&r, &r).sqrt();
+        if norm > 0.0 {
+            basis[rank] = std::array::from_fn(|k| r[k] / norm);
+            rank += 1;
+        }
+    }
+    // The normal: the coordinate axis that keeps most of itself once the facet's directions are
+    // taken out of it.
+    let mut normal = [0.0; D];
+    let mut kept = -1.0;
+    for axis in 0..D {
+        let mut r = [0.0; D];
+        r[axis] = 1.0;
+        for _ in 0..2 {
+            for q in &basis[..rank] {
+                let s = dot(&r, q);
+                for k in 0..D {
+                    r[k] -= s * q[k];
+                }
+            }
+        }
+        let norm = dot(&r, &r).sqrt();
+        if norm > kept {
+            kept = norm;
+            normal = std::array::from_fn(|k| r[k] / norm);
+        }
+    }
+    let mut offset = vertices
+        .iter()
+        .map(|&v| dot(&normal, &points[v as usize]))
+        .sum::<f64>()
+        / D as f64;
+    if dot(&normal, interior) > offset {
+        normal = normal.map(|c| -c);
+        offset = -offset;
+    }
+    HullFacet {
+        vertices,
+        normal,
+        offset,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_cube_has_its_six_faces_at_distance_one() {
+        let mut points = Vec::new();
+        for i in 0..8 {
+            points.push([
+                if i & 1 == 0 { -1.0 } else { 1.0 },
+                if i & 2 == 0 { -1.0 } else { 1.0 },
+                if i & 4 == 0 { -1.0 } else { 1.0 },
+            ]);
+        }
+        points.push([0.0, 0.0, 0.0]);
+        points.push([0.5, -0.2, 0.9]);
+        let mut hull = ConvexHull::<3>::new();
+        hull.compute(&points).unwrap();
+        // Twelve triangles, each on a face of the cube.
+        assert_eq!(hull.facets().len(), 12);
+        for f in hull.facets() {
+            assert!((f.offset - 1.0).abs() < 1e-12);
+            assert!(f.vertices.iter().all(|&v| v < 8));
+        }
+    }
+
+    #[test]
+    fn a_flat_set_is_refused_with_its_span() {
+        let points: Vec<[f64; 3]> = (0..10).map(|i| [i as f64, (i * i) as f64, 0.0]).collect();
+        let mut hull = ConvexHull::<3>::new();
+        assert_eq!(
+            hull.compute(&points),
+            Err(HullError::Flat {
+                span: 2,
+                dimension: 3
+            })
+        );
+        assert_eq!(
+            hull.compute(&points[..3]),
+            Err(HullError::TooFewPoints {
+                points: 3,
+                dimension: 3
+            })
+        );
+    }
+
+    #[test]
+    fn every_point_is_inside_every_facet_of_a_random_six_d_hull() {
+        let mut rng = crate::search::random::SplitMix64::new(7);
+        let points: Vec<[f64; 6]> = (0..60)
+            .map(|_| std::array::from_fn(|_| rng.uniform(-1.0, 1.0)))
+            .collect();
+        let mut hull = ConvexHull::<6>::new();
+        hull.compute(&points).unwrap();
+        assert!(hull.facets().len() > 100);
+        for f in hull.facets() {
+            for p in &points {
+                assert!(dot(&f.normal, p) <= f.offset + 1e-9);
+            }
+            for &v in &f.vertices {
+                assert!((dot(&f.normal, &points[v as usize]) - f.offset).abs() < 1e-9);
+            }
+        }
+        // Every ridge is shared by exactly two facets: the hull is closed.
+        let mut ridges = std::collections::HashMap::new();
+        for f in hull.facets() {
+            for skip in 0..6 {
+                let ridge: Vec<u32> = (0..6)
+                    .filter(|&j| j != skip)
+                    .map(|j| f.vertices[j])
+                    .collect();
+                *ridges.entry(ridge).or_insert(0) += 1;
+            }
+        }
+        assert!(ridges.values().all(|&n| n == 2));
+    }
+}

@@ -1,0 +1,283 @@
+//! The grasp wrench space and the stability measures grasp research uses: force closure, the
+//! Ferrari–Canny ε (L1) and the largest load the grasp resists along each axis.
+//!
+//! Each contact pushes inside a Coulomb friction cone of coefficient μ, linearized by
+//! `cone_edges` edges `n + μ(cos θ t₁ + sin θ t₂)` with unit normal component, as in GraspIt!.
+//! Finger pads are soft: each contact also resists a torsion about its normal up to
+//! `μ · patch · f_n`, where the patch radius is `torsion_patch` times the capsule's radius (two
+//! more wrenches, `(n, ±μ·patch·n)` in torque). Torques are about the object's centre of mass and
+//! divided by the object's size `L` (the largest distance of a vertex from the centre of mass),
+//! so forces and torques share one scale.
+//!
+//! The L1 grasp wrench space is the convex hull of all these wrenches: what the hand can resist
+//! when the contacts' normal forces add up to one. The grasp is in force closure when the origin
+//! lies strictly inside it; ε is the distance from the origin to the nearest facet (Ferrari &
+//! Canny 1992); the load ratio along a direction is how far the hull reaches along the pure
+//! force that holds a load there, i.e. the load the grasp holds per newton of total grip.
+
+use crate::math::{Point3, Vec3};
+
+use super::contacts::Contact;
+use super::convex_hull::{ConvexHull, HullError};
+
+/// The six load directions of [`Stability::load_ratio`], in the object's frame.
+pub const LOAD_DIRECTIONS: [&str; 6] = ["+x", "-x", "+y", "-y", "+z", "-z"];
+
+/// The smallest ε counted as force closure (the hull's tolerance is about 1e-9 of its size).
+pub const FORCE_CLOSURE_EPSILON: f64 = 1e-7;
+
+/// How contacts resist forces.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ContactModel {
+    /// Coulomb friction coefficient μ.
+    pub friction: f64,
+    /// Edges of the linearized friction cone (GraspIt! uses 8).
+    pub cone_edges: usize,
+    /// Soft-contact patch radius as a fraction of the capsule's radius (0: hard point contacts).
+    pub torsion_patch: f64,
+}
+
+impl Default for ContactModel {
+    fn default() -> Self {
+        Self {
+            friction: 0.5,
+            cone_edges: 8,
+            torsion_patch: 0.5,
+        }
+    }
+}
+
+impl ContactModel {
+    /// Why the model is unusable, if it is: μ must be a positive finite number no larger than 10,
+    /// the cone needs 3 to 64 edges, and the patch a fraction in [0, 1].
+    pub fn check(&self) -> Result<(), String> {
+        if !(self.friction.is_finite() && self.friction > 0.0 && self.friction <= 10.0) {
+            return Err(format!(
+                "the friction coefficient must be a number above 0 and at most 10 (got {}); rubber on wood is about 0.5-1",
+                self.friction
+            ));
+        }
+        if !(3..=64).contains(&self.cone_edges) {
+            return Err(format!(
+                "a friction cone needs 3 to 64 edges (got {})",
+                self.cone_edges
+            ));
+        }
+        if !(self.torsion_patch.is_finite() && (0.0..=1.0).contains(&self.torsion_patch)) {
+            return Err(format!(
+                "the torsion patch must be a fraction of the capsule radius in [0, 1] (got {})",
+                self.torsion_patch
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Stability of one grasp.
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
+pub struct Stability {
+    /// The origin is strictly inside the grasp wrench space: the contacts can resist any wrench.
+    pub force_closure: bool,
+    /// Ferrari–Canny ε (L1): the smallest wrench, per unit of total normal force, that the grasp
+    /// can just resist in its weakest direction; 0 without force closure.
+    pub epsilon: f64,
+    /// For a load along each of [`LOAD_DIRECTIONS`] through the centre of mass: the largest load
+    /// the grasp holds per unit of total normal force (0 when it cannot hold it at all).
+    pub load_ratio: [f64; 6],
+    /// The length `L` that torques were divided by, metres.
+    pub torque_scale: f64,
+    /// Wrenches in the hull (contacts × (edges + 2)).
+    pub wrenches: usize,
+}
+
+/// Buffers for [`GraspWrenchSpace::evaluate`]; reuse one per thread.
+#[derive(Debug, Clone, Default)]
+pub struct GraspWrenchSpace {
+    wrenches: Vec<[f64; 6]>,
+    hull: ConvexHull<6>,
+}
+
+impl GraspWrenchSpace {
+    /// Empty buffers.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The wrenches of the last evaluation: force, then torque divided by `L`.
+    pub fn wrenches(&self) -> &[[f64; 6]] {
+        &self.wrenches
+    }
+
+    /// Stability of `contacts` on an object with centre of mass `center` and size `scale` (L).
+    pub fn evaluate(
+        &mut self,
+        contacts: &[Contact],
+        model: &ContactModel,
+        center: &Point3,
+        scale: f64,
+    ) -> Stability {
+        contact_wrenches(contacts, model, center, scale, &mut self.wrenches);
+        let mut stability = Stability {
+            torque_scale: scale,
+            wrenches: self.wrenches.len(),
+            ..Default::default()
+        };
+        match self.hull.compute(&self.wrenches) {
+            Ok(()) => {}
+            Err(HullError::Flat { .. } | HullError::TooFewPoints { .. }) => return stability,
+            Err(HullError::NotFinite) => return stability,
+        }
+        let facets = self.hull.facets();
+        let epsilon = facets
+            .iter()
+            .map(|f| f.offset)
+            .fold(f64::INFINITY, f64::min);
+        if epsilon < FORCE_CLOSURE_EPSILON {
+            return stability;
+        }
+        stability.force_closure = true;
+        stability.epsilon = epsilon;
+        for (k, ratio) in stability.load_ratio.iter_mut().enumerate() {
+            // To hold a load along d the hand applies −d: how far does the hull reach that way?
+            let mut w = [0.0; 6];
+            w[k / 2] = if k % 2 == 0 { -1.0 } else { 1.0 };
+            *ratio = facets
+                .iter()
+                .filter_map(|f| {
+                    let along = f.normal[k / 2] * w[k / 2];
+                    (along > 1e-12).then(|| f.offset / along)
+                })
+                .fold(f64::INFINITY, f64::min);
+        }
+        stability
+    }
+}
+
+/// The wrenches of every contact's linearized friction cone and soft-contact torsion, into `out`.
+pub fn contact_wrenches(
+    contacts: &[Contact],
+    model: &ContactModel,
+    center: &Point3,
+    scale: f64,
+    out: &mut Vec<[f64; 6]>,
+) {
+    out.clear();
+    let wrench = |p: &Point3, f: &Vec3, torsion: &Vec3| {
+        let torque = ((p - center).cross(f) + torsion) / scale;
+        [f.x, f.y, f.z, torque.x, torque.y, torque.z]
+    };
+    for c in contacts {
+        let n = c.normal;
+        let (t1, t2) = tangents(&n);
+        for j in 0..model.cone_edges {
+            let angle = std::f64::consts::TAU * j as f64 / model.cone_edges as f64;
+            let f = n + (t1 * angle.cos() + t2 * angle.sin()) * model.friction;
+            out.push(wrench(&c.point, &f, &Vec3::zeros()));
+        }
+        if model.torsion_patch > 0.0 {
+            let torsion = n * (model.friction * model.torsion_patch * c.radius);
+            out.push(wrench(&c.point, &n, &torsion));
+            out.push(wrench(&c.point, &n, &-torsion));
+        }
+    }
+}
+
+/// Two unit vectors completing `n` to a right-handed orthonormal frame (Frisvad's construction,
+/// made robust near n = −z as in Duff et al. 2017).
+pub fn tangents(n: &Vec3) -> (Vec3, Vec3) {
+    let sign = if n.z >= 0.0 { 1.0 } else { -1.0 };
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    (
+        Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
+        Vec3::new(b, sign + n.y * n.y * a, -n.y),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn contact(point: [f64; 3], normal: [f64; 3]) -> Contact {
+        Contact {
+            bone: 0,
+            capsule: 0,
+            point: Point3::from(point),
+            normal: Vec3::from(normal).normalize(),
+            gap: 0.0,
+            radius: 0.01,
+        }
+    }
+
+    #[test]
+    fn tangents_are_orthonormal() {
+        for n in [
+            Vec3::z(),
+            -Vec3::z(),
+            Vec3::new(0.3, -0.8, 0.1).normalize(),
+            Vec3::new(1e-9, 0.0, -1.0).normalize(),
+        ] {
+            let (t1, t2) = tangents(&n);
+            assert!((t1.norm() - 1.0).abs() < 1e-12 && (t2.norm() - 1.0).abs() < 1e-12);
+            assert!(t1.dot(&n).abs() < 1e-12 && t2.dot(&n).abs() < 1e-12);
+            assert!(t1.dot(&t2).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn a_hand_lying_flat_on_a_face_is_not_in_force_closure() {
+        // Five contacts, all pushing down on the top face of a box.
+        let contacts: Vec<Contact> = (0..5)
+            .map(|i| contact([0.01 * i as f64 - 0.02, 0.01, 0.03], [0.0, 0.0, -1.0]))
+            .collect();
+        let mut gws = GraspWrenchSpace::new();
+        let s = gws.evaluate(&contacts, &ContactModel::default(), &Point3::origin(), 0.05);
+        assert!(!s.force_closure);
+        assert_eq!(s.epsilon, 0.0);
+    }
+
+    #[test]
+    fn an_opposed_pinch_with_soft_pads_is_in_force_closure_and_a_hard_one_is_not() {
+        let contacts = [
+            contact([0.03, 0.0, 0.0], [-1.0, 0.0, 0.0]),
+            contact([-0.03, 0.0, 0.0], [1.0, 0.0, 0.0]),
+        ];
+        let mut gws = GraspWrenchSpace::new();
+        let soft = gws.evaluate(&contacts, &ContactModel::default(), &Point3::origin(), 0.03);
+        assert!(soft.force_closure && soft.epsilon > 0.0);
+        // Loads across the pinch are held by friction (μ per unit of total grip: 2 × 0.5 μ·½).
+        assert!(soft.load_ratio[4] > 0.1 && soft.load_ratio[5] > 0.1);
+        let hard = ContactModel {
+            torsion_patch: 0.0,
+            ..Default::default()
+        };
+        // Without torsion, nothing resists turning about the line through both contacts.
+        assert!(
+            !gws.evaluate(&contacts, &hard, &Point3::origin(), 0.03)
+                .force_closure
+        );
+    }
+
+    #[test]
+    fn three_contacts_around_a_sphere_hold_loads_in_every_direction() {
+        let contacts: Vec<Contact> = (0..3)
+            .map(|i| {
+                let a = std::f64::consts::TAU * i as f64 / 3.0;
+                let p = [0.03 * a.cos(), 0.03 * a.sin(), 0.0];
+                contact(p, [-p[0], -p[1], 0.0])
+            })
+            .collect();
+        let mut gws = GraspWrenchSpace::new();
+        let s = gws.evaluate(&contacts, &ContactModel::default(), &Point3::origin(), 0.03);
+        assert!(s.force_closure);
+        assert!(s.load_ratio.iter().all(|&r| r > 0.05), "{:?}", s.load_ratio);
+        // More friction holds more.
+        let grippy = ContactModel {
+            friction: 1.0,
+            ..Default::default()
+        };
+        let more = gws.evaluate(&contacts, &grippy, &Point3::origin(), 0.03);
+        assert!(more.epsilon > s.epsilon);
+        assert!(more.load_ratio[4] > s.load_ratio[4]);
+    }
+}
