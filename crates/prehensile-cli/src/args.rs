@@ -3,6 +3,8 @@
 use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
+use prehensile_core::search::quality::STABILITY_WEIGHT;
+use prehensile_core::search::ValidityRule;
 
 /// Length unit of a mesh file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -159,7 +161,8 @@ pub struct CheckArgs {
 /// `prehensile hands`.
 #[derive(Debug, Args)]
 pub struct HandsArgs {
-    /// Describe this hand file (TOML, see docs/HAND_FORMAT.md) instead of listing the built-ins.
+    /// Describe this hand file (.toml, see docs/HAND_FORMAT.md; .urdf; MJCF .xml; skinned
+    /// .glb/.gltf) instead of listing the built-ins.
     #[arg(long)]
     pub file: Option<PathBuf>,
     /// Print JSON.
@@ -196,10 +199,18 @@ pub struct GraspArgs {
     /// Seed of the random search angles.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Quality weights G,F,T,W for gDist, fDist, tDist* and wDist (default: 5,1,0,1 for movements
-    /// without contact fingers, Eq. 5.1; 5,0,1,1 for those with, Eq. 5.2).
+    /// Quality weights G,F,T,W[,S] for gDist, fDist, tDist*, wDist and the stability term ε·L
+    /// (default: 5,1,0,1,10 for movements without contact fingers, Eq. 5.1; 5,0,1,1,10 for those
+    /// with, Eq. 5.2; S defaults to 10).
     #[arg(long, value_parser = parse_weights)]
-    pub weights: Option<[f64; 4]>,
+    pub weights: Option<[f64; 5]>,
+    /// Coulomb friction coefficient of the contacts, for force closure and ε.
+    #[arg(long, default_value_t = 0.5)]
+    pub friction: f64,
+    /// Which grasps are valid: `holds` (force closure; a precision grasp's thumb and index pads
+    /// opposed) or `thesis` (no penetration and enough fingers touching, §6.4.1).
+    #[arg(long, default_value = "holds", value_parser = parse_validity)]
+    pub validity: ValidityRule,
     /// Stop after this many milliseconds (default: run until converged).
     #[arg(long)]
     pub budget_ms: Option<f64>,
@@ -234,13 +245,28 @@ pub fn parse_point(s: &str) -> Result<[f64; 3], String> {
     parse_numbers::<3>(s, "three numbers X,Y,Z")
 }
 
-/// Parses `G,F,T,W`: four weights, none negative.
-pub fn parse_weights(s: &str) -> Result<[f64; 4], String> {
-    let w = parse_numbers::<4>(s, "four weights G,F,T,W")?;
+/// Parses `G,F,T,W` or `G,F,T,W,S`: four or five weights, none negative (S defaults to
+/// [`STABILITY_WEIGHT`]).
+pub fn parse_weights(s: &str) -> Result<[f64; 5], String> {
+    let w = if s.split(',').count() == 4 {
+        let [g, f, t, w] = parse_numbers::<4>(s, "four or five weights G,F,T,W[,S]")?;
+        [g, f, t, w, STABILITY_WEIGHT]
+    } else {
+        parse_numbers::<5>(s, "four or five weights G,F,T,W[,S]")?
+    };
     if w.iter().any(|x| *x < 0.0) {
         return Err(format!("'{s}': weights cannot be negative"));
     }
     Ok(w)
+}
+
+/// Parses `--validity`.
+pub fn parse_validity(s: &str) -> Result<ValidityRule, String> {
+    match s {
+        "holds" => Ok(ValidityRule::Holds),
+        "thesis" => Ok(ValidityRule::Thesis),
+        other => Err(format!("'{other}': use holds or thesis")),
+    }
 }
 
 /// Parses `N` comma-separated finite numbers.

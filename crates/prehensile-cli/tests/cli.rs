@@ -129,8 +129,23 @@ fn grasp_writes_a_result_an_independent_program_can_check() {
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     let r: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
-    assert_eq!(r["schema"], "prehensile.grasp/1");
+    assert_eq!(r["schema"], "prehensile.grasp/2");
     assert_eq!(r["valid"], true);
+    // A valid grasp holds: force closure with contacts whose normals do not all agree.
+    assert_eq!(r["stability"]["force_closure"], true);
+    assert!(r["stability"]["epsilon"].as_f64().unwrap() > 0.0);
+    let contacts = r["contacts"].as_array().unwrap();
+    assert!(contacts.len() >= 3);
+    let normal = |c: &serde_json::Value| -> Vec<f64> {
+        (0..3).map(|k| c["normal"][k].as_f64().unwrap()).collect()
+    };
+    let first = normal(&contacts[0]);
+    assert!(contacts.iter().any(|c| normal(c)
+        .iter()
+        .zip(&first)
+        .map(|(a, b)| a * b)
+        .sum::<f64>()
+        < 0.0));
     let capsules = r["capsules"].as_array().unwrap();
     assert_eq!(capsules.len(), 24);
     for key in ["bone", "finger", "a", "b", "radius", "touching"] {

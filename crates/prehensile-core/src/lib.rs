@@ -1,7 +1,8 @@
 //! # prehensile-core
 //!
 //! Hand and object models, capsule collision, kinematics and finger closing for real-time grasp
-//! pose search (Lazzaroni, "Real-Time Grasp Pose Generation for Virtual Hand"). No file I/O, no
+//! pose search (Paolo Caputo, "Real-Time Grasp Pose Generation for Virtual Hand", Politecnico di
+//! Milano, 2015). No file I/O, no
 //! physics engine, no printing: formats live in `prehensile-formats`, the CLI in `prehensile-cli`.
 //!
 //! Conventions: SI units; hand frame with z from the wrist along the fingers, x across the

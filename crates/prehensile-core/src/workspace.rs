@@ -4,6 +4,7 @@
 use crate::collision::{Capsule, CollisionCounters};
 use crate::hand::HandModel;
 use crate::math::{Rotation, Transform};
+use crate::stability::{Contact, GraspWrenchSpace};
 
 /// Scratch space for kinematics, collision and finger closing. Make one per thread.
 #[derive(Debug, Clone)]
@@ -24,6 +25,10 @@ pub struct Workspace {
     pub capsules: Vec<Capsule>,
     /// Collision query counts.
     pub counters: CollisionCounters,
+    /// Contacts of the last stability evaluation.
+    pub contacts: Vec<Contact>,
+    /// Buffers of the grasp wrench space.
+    pub wrench_space: GraspWrenchSpace,
 }
 
 impl Workspace {
@@ -44,6 +49,8 @@ impl Workspace {
             reached: vec![0; n],
             capsules: vec![zero; hand.capsules().len()],
             counters: CollisionCounters::default(),
+            contacts: Vec::with_capacity(3 * hand.capsules().len()),
+            wrench_space: GraspWrenchSpace::new(),
         }
     }
 }

@@ -2,7 +2,7 @@
 //! answers committed in `tests/data/stability_oracle.json`).
 
 use prehensile_core::math::{Point3, Vec3};
-use prehensile_core::stability::{Contact, ContactModel, GraspWrenchSpace};
+use prehensile_core::stability::{force_closure_margin, Contact, ContactModel, GraspWrenchSpace};
 use serde_json::Value;
 
 fn vector(v: &Value) -> [f64; 3] {
@@ -42,6 +42,9 @@ fn stability_matches_scipy_qhull() {
         let s = gws.evaluate(&contacts, &model, &center, case["scale"].as_f64().unwrap());
         let expected = case["force_closure"].as_bool().unwrap();
         assert_eq!(s.force_closure, expected, "{name}: force closure");
+        // The search's linear program agrees with the hull.
+        let margin = force_closure_margin(gws.wrenches());
+        assert_eq!(margin > 0.0, expected, "{name}: margin {margin}");
         let epsilon = case["epsilon"].as_f64().unwrap();
         assert!(
             (s.epsilon - epsilon).abs() < 1e-6,

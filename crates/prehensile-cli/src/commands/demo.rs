@@ -8,8 +8,9 @@ use prehensile_core::shapes::BUILTIN_OBJECTS;
 use prehensile_formats::BUILTIN_HANDS;
 
 use crate::args::DemoArgs;
-use crate::commands::grasp::{default_shoulder, glb_bytes, search, Request};
+use crate::commands::grasp::{glb_bytes, search, Request};
 use crate::{picture, sources, CliError};
+use prehensile_core::search::default_shoulder;
 
 /// Runs the demo and writes `<hand>-<object>.json`, `.svg` and an `index.html` gallery.
 pub fn run(args: &DemoArgs) -> Result<i32, CliError> {
@@ -41,11 +42,13 @@ pub fn run(args: &DemoArgs) -> Result<i32, CliError> {
                 hand,
                 object,
                 movement: "auto",
-                shoulder: default_shoulder(&object.hooks()[0], &up),
+                shoulder: default_shoulder(hand, &object.hooks()[0], &up),
                 up,
                 seed: args.seed,
                 budget: None,
                 weights: None,
+                validity: Default::default(),
+                contact_model: Default::default(),
                 progress: false,
             };
             let (result, took) = search(&request)?;

@@ -4,9 +4,12 @@ use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressStyle};
 use prehensile_core::math::{Point3, Vec3};
+use prehensile_core::search::default_shoulder;
 use prehensile_core::search::{
     Evaluation, GraspPlanner, GraspResult, QualityWeights, SearchParams, SearchSink, SearchStats,
+    ValidityRule,
 };
+use prehensile_core::stability::ContactModel;
 use prehensile_core::{HandModel, ObjectModel, Workspace};
 
 use crate::args::GraspArgs;
@@ -30,6 +33,10 @@ pub struct Request<'a> {
     pub budget: Option<Duration>,
     /// Quality weights, or the movement's defaults.
     pub weights: Option<QualityWeights>,
+    /// Which grasps are valid.
+    pub validity: ValidityRule,
+    /// How contacts resist forces.
+    pub contact_model: ContactModel,
     /// Show a spinner with the search's progress on a terminal.
     pub progress: bool,
 }
@@ -58,26 +65,13 @@ impl SearchSink for SpinnerSink {
     }
 }
 
-/// Default shoulder: 35 cm behind, 20 cm to the side and 35 cm above the hook.
-pub fn default_shoulder(hook: &Point3, up: &Vec3) -> Point3 {
-    let (behind, side) = if up.z.abs() > 0.5 {
-        (Vec3::x(), Vec3::y())
-    } else if up.y.abs() > 0.5 {
-        (Vec3::z(), Vec3::x())
-    } else {
-        (Vec3::y(), Vec3::z())
-    };
-    hook - behind * 0.35 - side * 0.2 + up * 0.35
-}
-
 /// Runs the search for one movement, or for each movement with `auto`, and returns the chosen
 /// result with the wall time it took.
 ///
 /// `auto` tries the hand's authored movements (the generic `close` only when there are none) and
-/// keeps, among valid results, the one with the most fingers touching, then the smallest
-/// gDist (the grasp center closest to the hook): more contacts make a steadier grasp, a small gDist
-/// a better-centred one. Qualities of different movements use different formulas (Eq. 5.1 and
-/// 5.2) and are not compared.
+/// keeps, among valid results, the one that holds best: the largest Ferrari–Canny ε, then the
+/// smallest gDist. Qualities of different movements use different formulas (Eq. 5.1 and 5.2)
+/// and are not compared.
 pub fn search(req: &Request) -> Result<(GraspResult, Duration), CliError> {
     let names: Vec<&str> = if req.movement == "auto" {
         let authored: Vec<&str> = req
@@ -114,6 +108,8 @@ pub fn search(req: &Request) -> Result<(GraspResult, Duration), CliError> {
             seed: req.seed,
             up: req.up,
             weights: req.weights,
+            validity: req.validity,
+            contact_model: req.contact_model,
             ..SearchParams::default()
         };
         let mut planner = GraspPlanner::new(req.hand, req.object, movement, req.shoulder, params)
@@ -139,11 +135,8 @@ pub fn search(req: &Request) -> Result<(GraspResult, Duration), CliError> {
         let better = match &best {
             None => true,
             Some(b) => {
-                (
-                    result.valid,
-                    result.fingers_touching.len(),
-                    -result.terms.gdist,
-                ) > (b.valid, b.fingers_touching.len(), -b.terms.gdist)
+                (result.valid, result.stability.epsilon, -result.terms.gdist)
+                    > (b.valid, b.stability.epsilon, -b.terms.gdist)
             }
         };
         if better {
@@ -226,7 +219,7 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
     let shoulder = args
         .shoulder
         .map(Point3::from)
-        .unwrap_or_else(|| default_shoulder(&hook, &up));
+        .unwrap_or_else(|| default_shoulder(&hand, &hook, &up));
     let budget = match args.budget_ms {
         Some(ms) if ms.is_finite() && ms > 0.0 => Some(Duration::from_secs_f64(ms / 1000.0)),
         Some(ms) => {
@@ -246,12 +239,18 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
         budget,
         weights: args
             .weights
-            .map(|[gdist, fdist, tdist, wdist]| QualityWeights {
+            .map(|[gdist, fdist, tdist, wdist, stability]| QualityWeights {
                 gdist,
                 fdist,
                 tdist,
                 wdist,
+                stability,
             }),
+        validity: args.validity,
+        contact_model: ContactModel {
+            friction: args.friction,
+            ..ContactModel::default()
+        },
         progress: true,
     };
     let (result, took) = search(&request)?;

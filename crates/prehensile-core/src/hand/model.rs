@@ -246,6 +246,31 @@ impl HandModel {
         self.dof_count
     }
 
+    /// True for a left hand: the thumb's (else the first finger's) base lies on the +x side of
+    /// the hand frame, where a right hand has its little finger (x runs across the knuckles from
+    /// the index at −x).
+    pub fn is_left(&self) -> bool {
+        let finger = self
+            .fingers
+            .iter()
+            .find(|f| f.name.to_lowercase().contains("thumb"))
+            .or(self.fingers.first());
+        finger
+            .and_then(|f| f.bones.first())
+            .is_some_and(|&b| self.rest_in_root(b).translation.vector.x > 0.0)
+    }
+
+    /// The rest frame of `bone` in the root bone's frame.
+    fn rest_in_root(&self, bone: usize) -> Transform {
+        let mut t = Transform::identity();
+        let mut b = Some(bone);
+        while let Some(i) = b.filter(|&i| i != 0) {
+            t = self.bones[i].rest * t;
+            b = self.bones[i].parent;
+        }
+        t
+    }
+
     /// Index of the bone with this name.
     pub fn bone_index(&self, name: &str) -> Option<usize> {
         self.bones.iter().position(|b| b.name == name)

@@ -15,7 +15,8 @@ pub use optimization_step::StepKind;
 pub use planner::{
     GraspPlanner, PlannerStatus, SearchError, SearchParams, SearchSink, SearchStats, StopRule,
 };
-pub use quality::{Evaluation, Invalid, QualityTerms, QualityWeights};
+pub use quality::{Evaluation, Invalid, QualityTerms, QualityWeights, ValidityRule};
 pub use result::{GraspResult, RESULT_SCHEMA};
+pub use start_position::default_shoulder;
 pub use translate_to_free::TranslateMode;
 pub use wrist_range::WristRange;

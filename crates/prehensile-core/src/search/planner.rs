@@ -12,11 +12,12 @@ use crate::workspace::Workspace;
 
 use super::initial_approximation::initial_approximation;
 use super::optimization_step::{step_candidates, StepKind};
-use super::quality::{Evaluation, EvaluationContext, QualityWeights};
+use super::quality::{Evaluation, EvaluationContext, QualityWeights, ValidityRule};
 use super::random::SplitMix64;
 use super::start_position::{nearest_hook, start_rotation};
 use super::translate_to_free::TranslateMode;
 use super::wrist_range::WristRange;
+use crate::stability::ContactModel;
 
 /// When the planner considers itself converged.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -63,6 +64,10 @@ pub struct SearchParams {
     pub min_fingers: usize,
     /// Threads evaluating a step's candidates, each with its own workspace.
     pub threads: usize,
+    /// Which grasps are valid: ones that hold (default) or the thesis's rules.
+    pub validity: ValidityRule,
+    /// How contacts resist forces (friction, friction cone, soft pads).
+    pub contact_model: ContactModel,
 }
 
 impl Default for SearchParams {
@@ -82,6 +87,8 @@ impl Default for SearchParams {
             max_steps: 500,
             min_fingers: 3,
             threads: 1,
+            validity: ValidityRule::Holds,
+            contact_model: ContactModel::default(),
         }
     }
 }
@@ -176,6 +183,8 @@ pub struct GraspPlanner<'a> {
     workspaces: Vec<Workspace>,
     candidates: [Rotation; 6],
     results: Vec<Option<Evaluation>>,
+    /// The sink has heard of the current best valid pose.
+    best_told: bool,
 }
 
 impl<'a> GraspPlanner<'a> {
@@ -209,6 +218,19 @@ impl<'a> GraspPlanner<'a> {
         }
         let size = object.report().size;
         let diagonal = (size[0] * size[0] + size[1] * size[1] + size[2] * size[2]).sqrt();
+        let mut weights = params
+            .weights
+            .unwrap_or_else(|| QualityWeights::for_movement(movement));
+        if params.validity == ValidityRule::Thesis {
+            weights.stability = 0.0;
+        }
+        let center = object.center_of_mass();
+        let torque_scale = object
+            .mesh()
+            .vertices
+            .iter()
+            .map(|v| (v - center).norm())
+            .fold(0.0, f64::max);
         let ctx = EvaluationContext {
             hand,
             object,
@@ -217,13 +239,14 @@ impl<'a> GraspPlanner<'a> {
             shoulder,
             start,
             wrist_range: params.wrist_range,
-            weights: params
-                .weights
-                .unwrap_or_else(|| QualityWeights::for_movement(movement)),
+            weights,
             translate: params.translate,
             max_offset: diagonal + reach,
             closing: params.closing,
             min_fingers: params.min_fingers,
+            validity: params.validity,
+            contact_model: params.contact_model,
+            torque_scale,
         };
         let threads = params.threads.clamp(1, 6);
         let mut planner = Self {
@@ -239,6 +262,7 @@ impl<'a> GraspPlanner<'a> {
             workspaces: (0..threads).map(|_| Workspace::new(hand)).collect(),
             candidates: [Rotation::identity(); 6],
             results: vec![None; 6],
+            best_told: false,
             params,
         };
         planner.restart();
@@ -272,6 +296,7 @@ impl<'a> GraspPlanner<'a> {
                 .is_none_or(|b| e.quality > b.quality)
         {
             self.best_valid = Some(e.clone());
+            self.best_told = false;
         }
     }
 
@@ -339,6 +364,10 @@ impl<'a> GraspPlanner<'a> {
         };
         self.collect_counters();
         self.stats.seconds += began.elapsed().as_secs_f64();
+        if let Some(best) = self.best_valid.as_ref().filter(|_| !self.best_told) {
+            sink.improved(best);
+            self.best_told = true;
+        }
         sink.step(&self.stats, &self.current);
         self.status
     }
@@ -465,6 +494,7 @@ fn placeholder(rotation: Rotation) -> Evaluation {
         offset: 0.0,
         fingers_touching: 0,
         validity: Ok(()),
+        closure_margin: None,
     }
 }
 
@@ -508,6 +538,9 @@ fn check_params(p: &SearchParams, shoulder: &Point3) -> Result<(), SearchError> 
         if !w.is_valid() {
             return bad("quality weights must be finite and not negative");
         }
+    }
+    if let Err(why) = p.contact_model.check() {
+        return Err(SearchError::BadParameter(why));
     }
     if p.max_steps == 0 {
         return bad("max_steps must be at least 1");

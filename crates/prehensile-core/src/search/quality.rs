@@ -7,6 +7,7 @@ use crate::hand::HandModel;
 use crate::math::{Point3, Rotation, Transform};
 use crate::movement::GraspMovement;
 use crate::object::ObjectModel;
+use crate::stability::{find_contacts, opposition_angle, pad_normal, ContactModel, Stability};
 use crate::workspace::Workspace;
 
 use super::translate_to_free::{hand_root, translate_to_free, TranslateMode};
@@ -15,7 +16,27 @@ use super::wrist_range::WristRange;
 /// Distance within which a capsule counts as touching, and depth beyond which it penetrates.
 pub const CONTACT_TOLERANCE: f64 = 0.001;
 
-/// Weights of the quality's terms: quality = −(g·gDist + f·fDist + t·tDist* + w·wDist).
+/// Smallest angle between the thumb's and the index's pad normals in a precision grasp (120°).
+pub const OPPOSITION_ANGLE: f64 = 2.0 * std::f64::consts::FRAC_PI_3;
+
+/// Default weight of the stability term; see [`QualityWeights::stability`].
+pub const STABILITY_WEIGHT: f64 = 10.0;
+
+/// Which grasps count as valid.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ValidityRule {
+    /// The grasp must hold: no penetration, the thesis's finger counts, force closure with the
+    /// contact model's friction, and for a movement with contact fingers the first two (thumb and
+    /// index) pads opposed by at least [`OPPOSITION_ANGLE`].
+    #[default]
+    Holds,
+    /// The thesis's rules only (§6.4.1): no penetration and enough fingers touching.
+    Thesis,
+}
+
+/// Weights of the quality's terms: quality = −(g·gDist + f·fDist + t·tDist* + w·wDist) + s·m·L,
+/// with m the force-closure margin and L the object's size.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct QualityWeights {
     /// Weight of gDist, the grasp center–hook distance (k1, w1).
@@ -26,6 +47,11 @@ pub struct QualityWeights {
     pub tdist: f64,
     /// Weight of wDist, the wrist–shoulder distance (k3, w3).
     pub wdist: f64,
+    /// Weight of the stability term m·L (the force-closure margin of
+    /// [`crate::stability::force_closure`] times the object's size, so that it is in metres like
+    /// the others); beyond the thesis, 0 under its validity rule.
+    #[serde(default)]
+    pub stability: f64,
 }
 
 impl QualityWeights {
@@ -36,6 +62,7 @@ impl QualityWeights {
             fdist: 1.0,
             tdist: 0.0,
             wdist: 1.0,
+            stability: STABILITY_WEIGHT,
         }
     }
 
@@ -46,6 +73,7 @@ impl QualityWeights {
             fdist: 0.0,
             tdist: 1.0,
             wdist: 1.0,
+            stability: STABILITY_WEIGHT,
         }
     }
 
@@ -60,9 +88,15 @@ impl QualityWeights {
 
     /// All weights finite and not negative.
     pub fn is_valid(&self) -> bool {
-        [self.gdist, self.fdist, self.tdist, self.wdist]
-            .iter()
-            .all(|w| w.is_finite() && *w >= 0.0)
+        [
+            self.gdist,
+            self.fdist,
+            self.tdist,
+            self.wdist,
+            self.stability,
+        ]
+        .iter()
+        .all(|w| w.is_finite() && *w >= 0.0)
     }
 }
 
@@ -81,6 +115,9 @@ pub struct QualityTerms {
     pub wdist: f64,
     /// Mean interpolation reached by the moving bones.
     pub mean_reached: f64,
+    /// m·L, the stability term in metres: the force-closure margin times the object's size (0
+    /// when not computed or not in force closure).
+    pub stability: f64,
 }
 
 /// Why a pose is not a valid grasp.
@@ -111,6 +148,16 @@ pub enum Invalid {
         /// The finger.
         finger: String,
     },
+    /// The contacts cannot resist every wrench with the contact model's friction.
+    NoForceClosure {
+        /// Contacts found.
+        contacts: usize,
+    },
+    /// The thumb's and the index's pads do not push against each other.
+    NoOpposition {
+        /// Angle between their pad normals, degrees.
+        angle_degrees: f64,
+    },
 }
 
 impl std::fmt::Display for Invalid {
@@ -135,6 +182,15 @@ impl std::fmt::Display for Invalid {
             Invalid::MissingContact { finger } => {
                 write!(f, "the {finger} does not touch the object")
             }
+            Invalid::NoForceClosure { contacts } => write!(
+                f,
+                "not in force closure: its {contacts} contact(s) cannot resist every push and twist with this friction"
+            ),
+            Invalid::NoOpposition { angle_degrees } => write!(
+                f,
+                "the thumb and index pads are {angle_degrees:.0}° apart, {:.0}° needed to pinch",
+                OPPOSITION_ANGLE.to_degrees()
+            ),
         }
     }
 }
@@ -154,6 +210,9 @@ pub struct Evaluation {
     pub fingers_touching: usize,
     /// `Ok` for a valid grasp.
     pub validity: Result<(), Invalid>,
+    /// Force-closure margin of the pose's contacts, computed for poses that pass the other
+    /// checks under [`ValidityRule::Holds`].
+    pub closure_margin: Option<f64>,
 }
 
 /// What an evaluation needs besides the rotation.
@@ -183,6 +242,13 @@ pub struct EvaluationContext<'a> {
     pub closing: ClosingParams,
     /// Fingers that must touch for a movement without named contact fingers.
     pub min_fingers: usize,
+    /// Which grasps are valid.
+    pub validity: ValidityRule,
+    /// How contacts resist forces.
+    pub contact_model: ContactModel,
+    /// The object's size `L` that torques are divided by: the largest distance of a vertex from
+    /// the centre of mass, metres.
+    pub torque_scale: f64,
 }
 
 impl EvaluationContext<'_> {
@@ -201,6 +267,7 @@ impl EvaluationContext<'_> {
             offset: 0.0,
             fingers_touching: 0,
             validity: Ok(()),
+            closure_margin: None,
         };
         if !self.wrist_range.contains(&self.start, rotation) {
             eval.validity = Err(Invalid::OutsideWristRange);
@@ -232,12 +299,6 @@ impl EvaluationContext<'_> {
             ws,
         );
         eval.terms = self.terms(offset, ws);
-        let w = &self.weights;
-        let t = &eval.terms;
-        eval.quality = -(w.gdist * t.gdist
-            + w.fdist * t.fdist
-            + w.tdist * t.tdist_contact
-            + w.wdist * t.wdist);
         eval.fingers_touching = self
             .hand
             .fingers()
@@ -245,7 +306,73 @@ impl EvaluationContext<'_> {
             .filter(|f| f.bones.iter().any(|&b| ws.touching[b]))
             .count();
         eval.validity = self.validity(outcome.started_in_collision, eval.fingers_touching, ws);
+        if eval.validity.is_ok() && self.validity == ValidityRule::Holds {
+            self.find_contacts(ws);
+            let margin = ws.wrench_space.closure_margin(
+                &ws.contacts,
+                &self.contact_model,
+                &self.object.center_of_mass(),
+                self.torque_scale,
+            );
+            eval.terms.stability = margin * self.torque_scale;
+            eval.validity = self.holds(margin, ws);
+            eval.closure_margin = Some(margin);
+        }
+        let w = &self.weights;
+        let t = &eval.terms;
+        eval.quality = -(w.gdist * t.gdist
+            + w.fdist * t.fdist
+            + w.tdist * t.tdist_contact
+            + w.wdist * t.wdist)
+            + w.stability * t.stability;
         eval
+    }
+
+    /// Finds the contacts of the pose in `ws` (into `ws.contacts`).
+    pub fn find_contacts(&self, ws: &mut Workspace) {
+        find_contacts(
+            self.hand,
+            self.object,
+            &ws.capsules,
+            CONTACT_TOLERANCE,
+            &mut ws.contacts,
+        );
+    }
+
+    /// Finds the contacts of the pose in `ws` and their stability (force closure, ε, loads).
+    pub fn stability(&self, ws: &mut Workspace) -> Stability {
+        self.find_contacts(ws);
+        ws.wrench_space.evaluate(
+            &ws.contacts,
+            &self.contact_model,
+            &self.object.center_of_mass(),
+            self.torque_scale,
+        )
+    }
+
+    /// Force closure, and for a movement with contact fingers the opposition of the first two.
+    fn holds(&self, closure_margin: f64, ws: &Workspace) -> Result<(), Invalid> {
+        if closure_margin <= 0.0 {
+            return Err(Invalid::NoForceClosure {
+                contacts: ws.contacts.len(),
+            });
+        }
+        if let [thumb, index, ..] = *self.movement.contact_fingers() {
+            let pads = (
+                pad_normal(self.hand, thumb, &ws.contacts),
+                pad_normal(self.hand, index, &ws.contacts),
+            );
+            let angle = match pads {
+                (Some(a), Some(b)) => opposition_angle(&a, &b),
+                _ => 0.0,
+            };
+            if angle < OPPOSITION_ANGLE {
+                return Err(Invalid::NoOpposition {
+                    angle_degrees: angle.to_degrees(),
+                });
+            }
+        }
+        Ok(())
     }
 
     fn terms(&self, offset: f64, ws: &Workspace) -> QualityTerms {

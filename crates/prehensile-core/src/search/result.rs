@@ -2,13 +2,14 @@
 //! (`docs/RESULT_SCHEMA.md`). Everything is in metres and radians in the object's frame.
 
 use crate::math::{Rotation, Transform};
+use crate::stability::Stability;
 use crate::workspace::Workspace;
 
 use super::planner::{GraspPlanner, PlannerStatus, SearchStats};
 use super::quality::{Evaluation, QualityTerms, CONTACT_TOLERANCE};
 
 /// Name and version of the result format.
-pub const RESULT_SCHEMA: &str = "prehensile.grasp/1";
+pub const RESULT_SCHEMA: &str = "prehensile.grasp/2";
 
 /// A rigid pose: position and unit quaternion `[x, y, z, w]`.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
@@ -63,6 +64,21 @@ pub struct CapsuleRecord {
     pub touching: bool,
 }
 
+/// One contact between the hand and the object.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ContactRecord {
+    /// Bone whose capsule touches.
+    pub bone: String,
+    /// Finger, `"palm"` for the root.
+    pub finger: String,
+    /// Contact point on the object's surface, world.
+    pub point: [f64; 3],
+    /// Unit normal pointing into the object (the direction the hand pushes).
+    pub normal: [f64; 3],
+    /// Gap between capsule and surface, metres (negative: it enters the object).
+    pub gap: f64,
+}
+
 /// One joint degree of freedom.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct JointRecord {
@@ -111,6 +127,13 @@ pub struct GraspResult {
     pub joints: Vec<JointRecord>,
     /// Every capsule.
     pub capsules: Vec<CapsuleRecord>,
+    /// Friction coefficient of the contact model.
+    pub friction: f64,
+    /// Every contact, with its normal.
+    pub contacts: Vec<ContactRecord>,
+    /// Force closure, ε and the load held along each axis, for these contacts (computed whatever
+    /// the validity rule).
+    pub stability: Stability,
     /// Search statistics.
     pub stats: SearchStats,
 }
@@ -124,8 +147,9 @@ impl GraspResult {
     }
 
     /// Builds the result for evaluation `e` whose pose is in `ws`.
-    fn from_pose(planner: &GraspPlanner, e: &Evaluation, ws: &Workspace) -> Self {
+    fn from_pose(planner: &GraspPlanner, e: &Evaluation, ws: &mut Workspace) -> Self {
         let ctx = planner.context();
+        let stability = ctx.stability(ws);
         let hand = ctx.hand;
         let finger_name = |b: usize| {
             hand.bones()[b]
@@ -187,6 +211,19 @@ impl GraspResult {
                 .collect(),
             joints: joint_records(hand, &ws.rotations),
             capsules,
+            friction: ctx.contact_model.friction,
+            contacts: ws
+                .contacts
+                .iter()
+                .map(|c| ContactRecord {
+                    bone: hand.bones()[c.bone].name.clone(),
+                    finger: finger_name(c.bone).unwrap_or_else(|| "palm".into()),
+                    point: c.point.into(),
+                    normal: c.normal.into(),
+                    gap: c.gap,
+                })
+                .collect(),
+            stability,
             stats: planner.stats(),
         }
     }

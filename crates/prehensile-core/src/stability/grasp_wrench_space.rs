@@ -108,6 +108,20 @@ impl GraspWrenchSpace {
         &self.wrenches
     }
 
+    /// The force-closure margin of `contacts` (see [`super::force_closure`]): in (0, 1] in force
+    /// closure, 0 otherwise. Tens of microseconds, where [`GraspWrenchSpace::evaluate`] takes
+    /// milliseconds.
+    pub fn closure_margin(
+        &mut self,
+        contacts: &[Contact],
+        model: &ContactModel,
+        center: &Point3,
+        scale: f64,
+    ) -> f64 {
+        contact_wrenches(contacts, model, center, scale, &mut self.wrenches);
+        super::force_closure_margin(&self.wrenches)
+    }
+
     /// Stability of `contacts` on an object with centre of mass `center` and size `scale` (L).
     pub fn evaluate(
         &mut self,

@@ -6,10 +6,12 @@
 
 pub mod contacts;
 pub mod convex_hull;
+pub mod force_closure;
 pub mod grasp_wrench_space;
 
 pub use contacts::{find_contacts, Contact};
 pub use convex_hull::{ConvexHull, HullError, HullFacet};
+pub use force_closure::force_closure_margin;
 pub use grasp_wrench_space::{
     ContactModel, GraspWrenchSpace, Stability, FORCE_CLOSURE_EPSILON, LOAD_DIRECTIONS,
 };

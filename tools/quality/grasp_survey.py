@@ -1,0 +1,90 @@
+"""Survey of grasp validity and stability across hands, objects, movements and seeds.
+
+Runs `prehensile grasp` for every combination under both validity rules (`holds`, the default, and
+`thesis`) and reports, per rule: how many searches return a valid grasp, how many of those are in
+force closure (from the result's own `stability`, computed with the full 8-edge cone and Qhull-
+checked hull), and how many have every contact normal on one side of a plane (a hand that only
+pushes the object one way: found by a small linear program with scipy).
+
+Run from the repository root after `cargo build --release -p prehensile-cli`:
+    pip install scipy numpy
+    python3 tools/quality/grasp_survey.py > /tmp/survey.txt
+"""
+import itertools
+import json
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+from scipy.optimize import linprog
+
+HANDS = ["human", "human-left", "robot3", "cartoon4", "assets/hands/shadow_hand/reach.xml"]
+OBJECTS = ["sphere", "box", "cylinder", "torus", "mug",
+           "assets/objects/robosuite_lemon.stl", "assets/objects/robosuite_milk.stl",
+           "assets/objects/robosuite_bread.stl", "assets/objects/robosuite_cereal.stl",
+           "assets/objects/robosuite_can.obj"]
+SEEDS = [1, 2]
+MOVEMENTS = ["power", "precision"]
+
+
+def one_sided(normals):
+    """True when some direction u has u . n > 0 for every normal n."""
+    if len(normals) == 0:
+        return True
+    n = np.asarray(normals)
+    # maximize s subject to n u >= s, -1 <= u <= 1
+    c = np.array([0, 0, 0, -1.0])
+    a = np.hstack([-n, np.ones((len(n), 1))])
+    res = linprog(c, A_ub=a, b_ub=np.zeros(len(n)), bounds=[(-1, 1)] * 3 + [(None, 1)])
+    return res.status == 0 and -res.fun > 1e-9
+
+
+def run(hand, obj, movement, seed, rule):
+    with tempfile.NamedTemporaryFile(suffix=".json") as f:
+        p = subprocess.run(["./target/release/prehensile", "grasp", "--hand", hand, "--object", obj,
+                            "--movement", movement, "--seed", str(seed), "--validity", rule,
+                            "--out", f.name], capture_output=True, text=True)
+        if p.returncode == 2:
+            return None
+        return json.load(open(f.name))
+
+
+def main():
+    rows = {}
+    for rule in ["holds", "thesis"]:
+        stats = {"searches": 0, "valid": 0, "fc": 0, "one_sided": 0, "eps": [], "ms": []}
+        per_hand = {}
+        for hand, obj, movement, seed in itertools.product(HANDS, OBJECTS, MOVEMENTS, SEEDS):
+            if hand.endswith(".xml") and movement == "precision":
+                movement = "close"  # the Shadow hand has only the derived movement
+            r = run(hand, obj, movement, seed, rule)
+            if r is None:
+                continue
+            stats["searches"] += 1
+            h = per_hand.setdefault(hand.split("/")[-1], [0, 0, 0])
+            h[0] += 1
+            stats["ms"].append(r["stats"]["seconds"] * 1000)
+            if not r["valid"]:
+                continue
+            h[1] += 1
+            stats["valid"] += 1
+            if r["stability"]["force_closure"]:
+                stats["fc"] += 1
+                h[2] += 1
+            stats["eps"].append(r["stability"]["epsilon"])
+            if one_sided([c["normal"] for c in r["contacts"]]):
+                stats["one_sided"] += 1
+        rows[rule] = (stats, per_hand)
+    for rule, (s, per_hand) in rows.items():
+        print(f"validity {rule}: {s['searches']} searches, {s['valid']} valid; of the valid: "
+              f"{s['fc']} in force closure ({100 * s['fc'] / max(s['valid'], 1):.0f}%), "
+              f"{s['one_sided']} with every contact normal on one side; "
+              f"median epsilon {np.median(s['eps']) if s['eps'] else 0:.3f}; "
+              f"median search {np.median(s['ms']):.1f} ms")
+        for hand, (n, v, fc) in per_hand.items():
+            print(f"    {hand:<12} {n:>3} searches, {v:>3} valid, {fc:>3} in force closure")
+
+
+if __name__ == "__main__":
+    sys.exit(main())
