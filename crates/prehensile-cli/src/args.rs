@@ -200,8 +200,8 @@ pub struct GraspArgs {
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Quality weights G,F,T,W[,S] for gDist, fDist, tDist*, wDist and the stability term ε·L
-    /// (default: 5,1,0,1,10 for movements without contact fingers, Eq. 5.1; 5,0,1,1,10 for those
-    /// with, Eq. 5.2; S defaults to 10).
+    /// (default: 5,1,0,1,0 for movements without contact fingers, Eq. 5.1; 5,0,1,1,0 for those
+    /// with, Eq. 5.2; S defaults to 0).
     #[arg(long, value_parser = parse_weights)]
     pub weights: Option<[f64; 5]>,
     /// Coulomb friction coefficient of the contacts, for force closure and ε.
