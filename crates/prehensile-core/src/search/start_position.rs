@@ -38,6 +38,22 @@ pub fn start_rotation(hook: &Point3, shoulder: &Point3, up: &Vec3) -> Option<Rot
     ))
 }
 
+/// The default shoulder for a hook: 35 cm behind, 20 cm to the side of the hand and 35 cm above
+/// it, "behind" and "aside" taken from the horizontal axes across `up`. A left hand (its thumb on
+/// the +x side of the hand frame, see [`crate::HandModel::is_left`]) has its shoulder on the other
+/// side.
+pub fn default_shoulder(hand: &crate::HandModel, hook: &Point3, up: &Vec3) -> Point3 {
+    let (behind, side) = if up.z.abs() > 0.5 {
+        (Vec3::x(), Vec3::y())
+    } else if up.y.abs() > 0.5 {
+        (Vec3::z(), Vec3::x())
+    } else {
+        (Vec3::y(), Vec3::z())
+    };
+    let side = if hand.is_left() { -side } else { side };
+    hook - behind * 0.35 - side * 0.2 + up * 0.35
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -62,20 +78,4 @@ mod tests {
         assert_eq!(nearest_hook(&hooks, &Point3::origin()), Some(hooks[1]));
         assert_eq!(nearest_hook(&[], &Point3::origin()), None);
     }
-}
-
-/// The default shoulder for a hook: 35 cm behind, 20 cm to the side of the hand and 35 cm above
-/// it, "behind" and "aside" taken from the horizontal axes across `up`. A left hand (its thumb on
-/// the +x side of the hand frame, see [`crate::HandModel::is_left`]) has its shoulder on the other
-/// side.
-pub fn default_shoulder(hand: &crate::HandModel, hook: &Point3, up: &Vec3) -> Point3 {
-    let (behind, side) = if up.z.abs() > 0.5 {
-        (Vec3::x(), Vec3::y())
-    } else if up.y.abs() > 0.5 {
-        (Vec3::z(), Vec3::x())
-    } else {
-        (Vec3::y(), Vec3::z())
-    };
-    let side = if hand.is_left() { -side } else { side };
-    hook - behind * 0.35 - side * 0.2 + up * 0.35
 }

@@ -105,8 +105,8 @@ impl<const D: usize> ConvexHull<D> {
         self.interior.clear();
         self.interior.resize(D, 0.0);
         for &i in &simplex {
-            for k in 0..D {
-                self.interior[k] += points[i as usize][k] / (D + 1) as f64;
+            for (c, p) in self.interior.iter_mut().zip(&points[i as usize]) {
+                *c += p / (D + 1) as f64;
             }
         }
         let interior = self.interior_point();
@@ -164,7 +164,7 @@ impl<const D: usize> ConvexHull<D> {
                     self.ridges.push((ridge, k));
                 }
             }
-            self.ridges.sort_unstable_by(|a, b| a.0.cmp(&b.0));
+            self.ridges.sort_unstable_by_key(|r| r.0);
             for &k in self.visible.iter().rev() {
                 self.facets.swap_remove(k);
             }
