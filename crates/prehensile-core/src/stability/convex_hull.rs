@@ -191,6 +191,19 @@ fn dot<const D: usize>(a: &[f64; D], b: &[f64; D]) -> f64 {
     (0..D).map(|k| a[k] * b[k]).sum()
 }
 
+/// Removes from `r` its components along the orthonormal `basis` (modified Gram–Schmidt, twice
+/// for accuracy).
+fn project_out<const D: usize>(r: &mut [f64; D], basis: &[[f64; D]]) {
+    for _ in 0..2 {
+        for q in basis {
+            let s = dot(r, q);
+            for (c, b) in r.iter_mut().zip(q) {
+                *c -= s * b;
+            }
+        }
+    }
+}
+
 /// `D + 1` affinely independent points, each the farthest from the span of those before it.
 fn initial_simplex<const D: usize>(
     points: &[[f64; D]],
@@ -238,20 +251,13 @@ fn facet<const D: usize>(
     interior: &[f64; D],
 ) -> HullFacet<D> {
     let base = points[vertices[0] as usize];
-    // Orthonormal basis of the facet's directions (modified Gram–Schmidt, twice for accuracy).
+    // Orthonormal basis of the facet's directions.
     let mut basis = [[0.0; D]; D];
     let mut rank = 0;
     for &v in &vertices[1..] {
         let p = points[v as usize];
         let mut r: [f64; D] = std::array::from_fn(|k| p[k] - base[k]);
-        for _ in 0..2 {
-            for q in &basis[..rank] {
-                let s = dot(&r, q);
-                for k in 0..D {
-                    r[k] -= s * q[k];
-                }
-            }
-        }
+        project_out(&mut r, &basis[..rank]);
         let norm = dot(&r, &r).sqrt();
         if norm > 0.0 {
             basis[rank] = std::array::from_fn(|k| r[k] / norm);
@@ -265,14 +271,7 @@ fn facet<const D: usize>(
     for axis in 0..D {
         let mut r = [0.0; D];
         r[axis] = 1.0;
-        for _ in 0..2 {
-            for q in &basis[..rank] {
-                let s = dot(&r, q);
-                for k in 0..D {
-                    r[k] -= s * q[k];
-                }
-            }
-        }
+        project_out(&mut r, &basis[..rank]);
         let norm = dot(&r, &r).sqrt();
         if norm > kept {
             kept = norm;
