@@ -214,6 +214,11 @@ pub struct GraspArgs {
     /// Stop after this many milliseconds (default: run until converged).
     #[arg(long)]
     pub budget_ms: Option<f64>,
+    /// Also test the grasp in the rapier world: the hand squeezes (grip strength 0.5), then
+    /// gravity pulls the object along each of the 6 axis directions for 1 s; held = moved < 2 cm
+    /// and turned < 30°. Adds `hold` to the JSON.
+    #[arg(long)]
+    pub hold: bool,
     /// Write the result as JSON here.
     #[arg(long)]
     pub out: Option<PathBuf>,

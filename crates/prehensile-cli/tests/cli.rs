@@ -423,3 +423,31 @@ fn fit_writes_a_controller_from_a_generated_example() {
     assert!(written.contains("k_s = 200.0") && written.contains("k_jl = 5000.0"));
     assert!(toml.with_extension("motion.json").exists());
 }
+
+#[test]
+fn grasp_hold_tests_the_grasp_in_six_directions() {
+    let json = scratch("hold.json");
+    let out = prehensile(&[
+        "grasp",
+        "--object",
+        "sphere",
+        "--movement",
+        "power",
+        "--hold",
+        "--out",
+        json.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert!(text(&out.stderr).contains("hold test"));
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let directions = r["hold"]["directions"].as_array().unwrap();
+    let names: Vec<&str> = directions
+        .iter()
+        .map(|d| d["direction"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["+x", "-x", "+y", "-y", "+z", "-z"]);
+    let held = directions.iter().filter(|d| d["held"] == true).count();
+    assert_eq!(r["hold"]["held"].as_u64().unwrap() as usize, held);
+    assert!(held >= 4, "{}", r["hold"]);
+}

@@ -254,7 +254,19 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
         progress: true,
     };
     let (result, took) = search(&request)?;
-    let json = serde_json::to_string_pretty(&result).map_err(CliError::from_display)?;
+    let hold = if args.hold {
+        Some(hold_test(&hand, &object, &result)?)
+    } else {
+        None
+    };
+    let mut record = serde_json::to_value(&result).map_err(CliError::from_display)?;
+    if let (Some(h), Some(map)) = (&hold, record.as_object_mut()) {
+        map.insert(
+            "hold".into(),
+            serde_json::to_value(h).map_err(CliError::from_display)?,
+        );
+    }
+    let json = serde_json::to_string_pretty(&record).map_err(CliError::from_display)?;
     match &args.out {
         Some(path) => std::fs::write(path, &json)
             .map_err(|e| CliError(format!("cannot write {}: {e}", path.display())))?,
@@ -306,5 +318,38 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
         result.fingers_touching.join(", "),
         took.as_secs_f64() * 1e3
     );
+    if let Some(h) = &hold {
+        let held: Vec<&str> = h
+            .directions
+            .iter()
+            .filter(|d| d.held)
+            .map(|d| d.direction)
+            .collect();
+        eprintln!(
+            "hold test (rapier, alpha {}, {:.1} g object): held against gravity along {} of 6 directions ({})",
+            h.alpha,
+            h.object_mass_kg * 1e3,
+            h.held,
+            if held.is_empty() { "none".to_string() } else { held.join(" ") }
+        );
+    }
     Ok(if result.valid { 0 } else { 1 })
+}
+
+/// Runs the rapier hold test of the found grasp (gravity along each axis direction).
+fn hold_test(
+    hand: &HandModel,
+    object: &ObjectModel,
+    result: &GraspResult,
+) -> Result<prehensile_sim::scenarios::HoldReport, CliError> {
+    use prehensile_sim::scenarios::{hold_test, PlannedGrasp, HOLD_ALPHA};
+    let grasp = PlannedGrasp::from_result(hand, result).map_err(CliError::from_display)?;
+    hold_test(
+        hand,
+        object,
+        &grasp,
+        prehensile_sim::Settings::default(),
+        HOLD_ALPHA,
+    )
+    .map_err(CliError::from_display)
 }

@@ -5,7 +5,7 @@
 use prehensile_control::{fit_controller, BaseMotion, Gains, GraspController, Motion};
 use prehensile_core::math::{Point3, Transform, Vec3};
 use prehensile_core::search::translate_to_free::hand_root;
-use prehensile_core::search::{GraspPlanner, SearchParams};
+use prehensile_core::search::{default_shoulder, GraspPlanner, GraspResult, SearchParams};
 use prehensile_core::{HandModel, ObjectModel, Workspace};
 
 use crate::arm_trajectory::{ArmTrajectory, Waypoint};
@@ -27,14 +27,15 @@ pub struct PlannedGrasp {
 }
 
 /// Searches a power grasp (or the hand's first movement) of `object` from the default shoulder
-/// (35 cm behind, 20 cm aside and 35 cm above the centre of mass, z up).
+/// ([`default_shoulder`]: 35 cm behind, 20 cm aside and 35 cm above the centre of mass, z up), as
+/// `prehensile grasp --movement power` does.
 pub fn plan_grasp(hand: &HandModel, object: &ObjectModel) -> Result<PlannedGrasp, SimError> {
     let movement = hand
         .movement("power")
         .or_else(|| hand.movements().first())
         .ok_or_else(|| SimError::Hand(format!("hand '{}' has no movement", hand.name())))?;
     let hook = object.center_of_mass();
-    let shoulder = hook + Vec3::new(-0.35, -0.2, 0.35);
+    let shoulder = default_shoulder(hand, &hook, &Vec3::z());
     let mut planner = GraspPlanner::new(hand, object, movement, shoulder, SearchParams::default())
         .map_err(|e| SimError::Object(e.to_string()))?;
     planner.run_to_end();
@@ -60,6 +61,36 @@ pub fn plan_grasp(hand: &HandModel, object: &ObjectModel) -> Result<PlannedGrasp
 }
 
 impl PlannedGrasp {
+    /// The grasp of a search result (`prehensile grasp`'s output), for the same hand.
+    pub fn from_result(hand: &HandModel, result: &GraspResult) -> Result<Self, SimError> {
+        let movement = hand.movement(&result.movement).ok_or_else(|| {
+            SimError::Hand(format!(
+                "the result names movement '{}', which hand '{}' lacks",
+                result.movement,
+                hand.name()
+            ))
+        })?;
+        if result.joints.len() != hand.dof_count() {
+            return Err(SimError::Hand(format!(
+                "the result has {} joint angles, hand '{}' has {} degrees of freedom",
+                result.joints.len(),
+                hand.name(),
+                hand.dof_count()
+            )));
+        }
+        let [x, y, z, w] = result.hook_rotation_xyzw;
+        let rotation =
+            prehensile_core::math::Rotation::from_quaternion(nalgebra::Quaternion::new(w, x, y, z));
+        let hook_frame = Transform::from_parts(Point3::from(result.hook).coords.into(), rotation);
+        Ok(Self {
+            root: hand_root(&hook_frame, movement, result.offset),
+            approach: rotation * Vec3::y(),
+            open: joint_angles(hand, movement.start_rotations()),
+            closed: result.joints.iter().map(|j| j.angle).collect(),
+            fingers_touching: result.fingers_touching.len(),
+        })
+    }
+
     /// The relaxed pose of the example: 30% of the way from open to closed.
     pub fn relaxed(&self) -> Vec<f64> {
         self.open

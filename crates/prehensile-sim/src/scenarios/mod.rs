@@ -8,6 +8,7 @@ mod grasp_plan;
 mod grip_sweep;
 mod handshake;
 mod held_still;
+mod hold_test;
 mod open_close;
 mod shake;
 
@@ -23,6 +24,9 @@ use crate::SimError;
 
 pub use grasp_plan::{grasp_arm, plan_grasp, GraspTimes, PlannedGrasp, APPROACH, LIFT};
 pub use held_still::held_still;
+pub use hold_test::{
+    hold_test, HoldDirection, HoldReport, HOLD_ALPHA, HOLD_MOVE, HOLD_SECONDS, HOLD_TURN_DEGREES,
+};
 
 /// Schema name of run reports.
 pub const RUN_SCHEMA: &str = "prehensile.run/1";

@@ -1,0 +1,146 @@
+//! The hold test: does a grasp found by the search hold the object against a load in every
+//! direction? The hand closes on the object (held in place) with grip strength α, the paper's
+//! squeeze past contact (Eq. 15–16); the object is let go with gravity along one of the six axis
+//! directions, the arm kept still; after one second the object counts as held in that direction
+//! if it moved less than [`HOLD_MOVE`] and turned less than [`HOLD_TURN_DEGREES`] in the hand.
+//!
+//! Each direction is its own run from the same start: the same arm path, controller and closing;
+//! only gravity (and its compensation in the hand) differs, and it acts on the object only after
+//! let-go, since the object is fixed until then.
+
+use prehensile_core::math::{Transform, Vec3};
+use prehensile_core::stability::LOAD_DIRECTIONS;
+use prehensile_core::{HandModel, ObjectModel};
+use serde::Serialize;
+
+use super::{grasp_arm, GraspTimes, PlannedGrasp};
+use crate::simulation::{DistanceTo, HandSetup, Settings, Simulation};
+use crate::SimError;
+
+/// Largest move of the object in the hand that still counts as held, metres.
+pub const HOLD_MOVE: f64 = 0.02;
+/// Largest turn of the object in the hand that still counts as held, degrees.
+pub const HOLD_TURN_DEGREES: f64 = 30.0;
+/// How long each load is applied, seconds.
+pub const HOLD_SECONDS: f64 = 1.0;
+/// Default grip strength α of the hold test (the held-still scene's).
+pub const HOLD_ALPHA: f64 = 0.5;
+
+/// The outcome of one load direction.
+#[derive(Debug, Clone, Serialize)]
+pub struct HoldDirection {
+    /// Direction of the load (gravity), object frame: `+x`, `-x`, … `-z`.
+    pub direction: &'static str,
+    /// Moved less than [`HOLD_MOVE`] and turned less than [`HOLD_TURN_DEGREES`].
+    pub held: bool,
+    /// How far the object moved in the hand, metres.
+    pub moved_m: f64,
+    /// How far it turned in the hand, degrees.
+    pub turned_degrees: f64,
+    /// Why the run stopped early, if it diverged.
+    pub diverged: Option<String>,
+}
+
+/// The hold test of one grasp.
+#[derive(Debug, Clone, Serialize)]
+pub struct HoldReport {
+    /// Grip strength α.
+    pub alpha: f64,
+    /// Object mass in the simulation, kg.
+    pub object_mass_kg: f64,
+    /// Time step, seconds.
+    pub dt: f64,
+    /// Each load direction.
+    pub directions: Vec<HoldDirection>,
+    /// How many directions held.
+    pub held: usize,
+}
+
+/// Runs the hold test of `grasp` (from [`super::plan_grasp`] or
+/// [`PlannedGrasp::from_result`]) with `settings` (its gravity's magnitude is used) and grip
+/// strength `alpha`.
+pub fn hold_test(
+    hand: &HandModel,
+    object: &ObjectModel,
+    grasp: &PlannedGrasp,
+    settings: Settings,
+    alpha: f64,
+) -> Result<HoldReport, SimError> {
+    if !(alpha.is_finite() && (0.0..=1.0).contains(&alpha)) {
+        return Err(SimError::Settings(format!(
+            "grip strength alpha must be in [0, 1] (got {alpha})"
+        )));
+    }
+    settings.check()?;
+    let g = settings.gravity.norm();
+    let times = GraspTimes {
+        lift: 1e6,
+        lifted: 1e6 + 1.0,
+        release: 1e6 + 2.0,
+        end: 1e6 + 3.0,
+        ..GraspTimes::default()
+    };
+    let mut report = HoldReport {
+        alpha,
+        object_mass_kg: 0.0,
+        dt: settings.dt,
+        directions: Vec::with_capacity(6),
+        held: 0,
+    };
+    for (k, direction) in LOAD_DIRECTIONS.iter().enumerate() {
+        let mut axis = Vec3::zeros();
+        axis[k / 2] = if k % 2 == 0 { 1.0 } else { -1.0 };
+        let gravity = axis * g;
+        let mut controller = grasp.controller(hand, &gravity)?;
+        controller.alpha = alpha;
+        let mut sim = Simulation::new(Settings {
+            gravity,
+            ..settings
+        })?;
+        report.object_mass_kg = sim.add_object(object, &Transform::identity(), true)?.mass;
+        sim.add_hand(HandSetup {
+            hand: hand.clone(),
+            start: controller.setpoints.neutral.clone(),
+            controller,
+            arm: grasp_arm(grasp, &Transform::identity(), &times),
+            distance: DistanceTo::GraspPlace(grasp.place()),
+            release_at: None,
+            compensate_gravity: true,
+            compensate_arm: true,
+            manual: Vec::new(),
+        })?;
+        let in_hand = |sim: &Simulation| {
+            let o = sim.object_pose().expect("the test has an object");
+            sim.root(0).inverse() * o
+        };
+        let mut outcome = HoldDirection {
+            direction,
+            held: false,
+            moved_m: f64::INFINITY,
+            turned_degrees: 180.0,
+            diverged: None,
+        };
+        let mut start = None;
+        let end = times.let_go + HOLD_SECONDS;
+        while sim.time() < end {
+            if start.is_none() && sim.time() >= times.let_go {
+                sim.let_go_object();
+                start = Some(in_hand(&sim));
+            }
+            if let Err(e) = sim.step() {
+                outcome.diverged = Some(e.to_string());
+                break;
+            }
+        }
+        if let (Some(a), None) = (start, &outcome.diverged) {
+            let b = in_hand(&sim);
+            outcome.moved_m = (b.translation.vector - a.translation.vector).norm();
+            outcome.turned_degrees = b.rotation.angle_to(&a.rotation).to_degrees();
+            outcome.held =
+                outcome.moved_m < HOLD_MOVE && outcome.turned_degrees < HOLD_TURN_DEGREES;
+        }
+        report.held += outcome.held as usize;
+        report.directions.push(outcome);
+    }
+    Ok(report)
+}
