@@ -25,6 +25,7 @@ pub mod kinematics;
 pub mod math;
 pub mod mesh;
 pub mod movement;
+pub mod movement_derivation;
 pub mod object;
 pub mod search;
 pub mod shapes;

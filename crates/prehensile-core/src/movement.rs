@@ -166,6 +166,23 @@ impl GraspMovement {
         m
     }
 
+    /// A movement from the open pose to `end` (limits and couplings applied) with the given
+    /// grasp center and contact fingers; see [`crate::movement_derivation`].
+    pub(crate) fn derived(
+        hand: &HandModel,
+        name: &str,
+        mut end: Vec<f64>,
+        grasp_center: Point3,
+        contact_fingers: Vec<usize>,
+    ) -> Self {
+        let mut start = vec![0.0; hand.dof_count()];
+        hand.constrain(&mut start);
+        hand.constrain(&mut end);
+        let mut m = Self::from_angles(hand, name, start, end, grasp_center);
+        m.contact_fingers = contact_fingers;
+        m
+    }
+
     fn from_angles(
         hand: &HandModel,
         name: &str,

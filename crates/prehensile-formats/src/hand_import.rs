@@ -202,7 +202,9 @@ pub fn build_in_hand_frame(
     if let Some(s) = sidecar.filter(|s| !s.close.is_empty()) {
         parts.close = s.close.iter().map(|(k, v)| (k.clone(), *v)).collect();
     }
-    HandModel::from_parts(parts).map_err(err)
+    let mut hand = HandModel::from_parts(parts).map_err(err)?;
+    prehensile_core::movement_derivation::add_derived_movements(&mut hand);
+    Ok(hand)
 }
 
 /// A bone part with the common defaults.

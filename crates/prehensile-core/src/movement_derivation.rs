@@ -1,0 +1,220 @@
+//! Power and precision movements derived for any hand (beyond the thesis, whose movements are
+//! authored per hand, §5.3): the end pose brings the fingertips to targets in front of the palm,
+//! each finger's joints chosen within their limits by coordinate descent on the distance from
+//! its tip to its target. Every joint of a finger takes part, whatever its axis, so a thumb whose
+//! joints turn about unusual axes still comes across to oppose the fingers.
+//!
+//! In the hand frame (z along the fingers, y out of the palm, x across the knuckles), with K the
+//! centroid of the non-thumb fingers' first joints and L their mean length:
+//! - **power**: the grasp center C = K + 0.45·L·y; each finger's tip goes to C shifted across by
+//!   the finger's own x offset (the fingers curl side by side around an object at C), the thumb's
+//!   tip to C itself, from the other side;
+//! - **precision**: the pinch point P = (index's first joint) + 0.5·L·y + 0.45·L·z; the thumb's
+//!   and the index's tips both go to P (their pads meet, so an object between them is squeezed
+//!   from opposite sides), the other fingers follow the index side by side. Contact fingers:
+//!   thumb, then index.
+//!
+//! The movements start from the open pose (every angle zero, clamped into its limits) and end at
+//! the targets; finger closing stops each bone at its first contact on the way.
+
+use crate::hand::HandModel;
+use crate::math::{Point3, Rotation, Transform, Vec3};
+use crate::movement::GraspMovement;
+
+/// Smallest coordinate-descent step, radians.
+const MIN_STEP: f64 = 1e-4;
+/// Largest number of sweeps over a finger's joints.
+const MAX_SWEEPS: usize = 400;
+
+/// The thumb: the finger whose name contains "thumb" (or is "th"); `None` if there is none.
+pub fn thumb(hand: &HandModel) -> Option<usize> {
+    hand.fingers().iter().position(|f| {
+        let n = f.name.to_lowercase();
+        n.contains("thumb") || n == "th"
+    })
+}
+
+/// The index finger: the one named "index" (or "ff"), else the non-thumb finger whose first joint
+/// is nearest the thumb's.
+pub fn index(hand: &HandModel, thumb: usize) -> Option<usize> {
+    if let Some(i) = hand.fingers().iter().position(|f| {
+        let n = f.name.to_lowercase();
+        n.contains("index") || n == "ff"
+    }) {
+        return Some(i);
+    }
+    let rest = rest_pose(hand);
+    let base = |f: usize| rest[hand.fingers()[f].bones[0]].translation.vector;
+    (0..hand.fingers().len())
+        .filter(|&f| f != thumb)
+        .min_by(|&a, &b| {
+            (base(a) - base(thumb))
+                .norm()
+                .total_cmp(&(base(b) - base(thumb)).norm())
+        })
+}
+
+/// Adds the derived `power` and `precision` movements to a hand that has no movement of that
+/// name (an imported hand has only `close`); a hand without a thumb gets neither.
+pub fn add_derived_movements(hand: &mut HandModel) {
+    let derived = [derive_power(hand), derive_precision(hand)];
+    for m in derived.into_iter().flatten() {
+        if hand.movement(m.name()).is_none() {
+            hand.movements.push(m);
+        }
+    }
+}
+
+/// The derived power movement, or `None` for a hand without a thumb or other fingers.
+pub fn derive_power(hand: &HandModel) -> Option<GraspMovement> {
+    let frame = PalmFrame::new(hand)?;
+    let center = frame.knuckles + Vec3::y() * (0.45 * frame.length);
+    let targets: Vec<Point3> = (0..hand.fingers().len())
+        .map(|f| {
+            if f == frame.thumb {
+                center
+            } else {
+                center + Vec3::x() * frame.base(f).x - Vec3::x() * frame.knuckles.x
+            }
+        })
+        .collect();
+    let end = reach_targets(hand, &targets);
+    Some(GraspMovement::derived(hand, "power", end, center, Vec::new()))
+}
+
+/// The derived precision movement (thumb and index pinch), or `None` for a hand without a
+/// thumb or other fingers.
+pub fn derive_precision(hand: &HandModel) -> Option<GraspMovement> {
+    let frame = PalmFrame::new(hand)?;
+    let index = index(hand, frame.thumb)?;
+    let pinch = frame.base(index) + (Vec3::y() * 0.5 + Vec3::z() * 0.45) * frame.length;
+    let targets: Vec<Point3> = (0..hand.fingers().len())
+        .map(|f| {
+            if f == frame.thumb || f == index {
+                pinch
+            } else {
+                pinch + Vec3::x() * (frame.base(f).x - frame.base(index).x)
+            }
+        })
+        .collect();
+    let end = reach_targets(hand, &targets);
+    Some(GraspMovement::derived(
+        hand,
+        "precision",
+        end,
+        pinch,
+        vec![frame.thumb, index],
+    ))
+}
+
+/// Where the palm is, at rest.
+struct PalmFrame {
+    bases: Vec<Point3>,
+    thumb: usize,
+    knuckles: Point3,
+    length: f64,
+}
+
+impl PalmFrame {
+    fn new(hand: &HandModel) -> Option<Self> {
+        let thumb = thumb(hand)?;
+        let rest = rest_pose(hand);
+        let fingers = hand.fingers();
+        let bases: Vec<Point3> = fingers
+            .iter()
+            .map(|f| rest[f.bones[0]].translation.vector.into())
+            .collect();
+        let others: Vec<usize> = (0..fingers.len()).filter(|&f| f != thumb).collect();
+        if others.is_empty() {
+            return None;
+        }
+        let knuckles = Point3::from(
+            others.iter().fold(Vec3::zeros(), |s, &f| s + bases[f].coords) / others.len() as f64,
+        );
+        let length = others
+            .iter()
+            .map(|&f| (tip(hand, &rest, f) - bases[f]).norm())
+            .sum::<f64>()
+            / others.len() as f64;
+        Some(Self {
+            bases,
+            thumb,
+            knuckles,
+            length,
+        })
+    }
+
+    fn base(&self, finger: usize) -> Point3 {
+        self.bases[finger]
+    }
+}
+
+/// Bone transforms of the open pose (angles zero, constrained), root at the origin.
+fn rest_pose(hand: &HandModel) -> Vec<Transform> {
+    hand.pose_transforms(&Transform::identity(), &rotations(hand, &open_angles(hand)))
+}
+
+fn open_angles(hand: &HandModel) -> Vec<f64> {
+    let mut q = vec![0.0; hand.dof_count()];
+    hand.constrain(&mut q);
+    q
+}
+
+fn rotations(hand: &HandModel, q: &[f64]) -> Vec<Rotation> {
+    let mut r = vec![Rotation::identity(); hand.bones().len()];
+    hand.joint_rotations(q, &mut r);
+    r
+}
+
+fn tip(hand: &HandModel, world: &[Transform], finger: usize) -> Point3 {
+    let f = &hand.fingers()[finger];
+    world[*f.bones.last().expect("fingers have bones")] * f.tip
+}
+
+/// Joint angles bringing each finger's tip as near its target as the limits allow (coordinate
+/// descent with a halving step, finger by finger; couplings applied after every move).
+fn reach_targets(hand: &HandModel, targets: &[Point3]) -> Vec<f64> {
+    let mut q = open_angles(hand);
+    for (f, target) in targets.iter().enumerate() {
+        let dofs: Vec<usize> = hand.fingers()[f]
+            .bones
+            .iter()
+            .flat_map(|&b| {
+                let bone = &hand.bones()[b];
+                bone.first_dof..bone.first_dof + bone.joint.dofs()
+            })
+            .collect();
+        let distance = |q: &[f64]| {
+            let world = hand.pose_transforms(&Transform::identity(), &rotations(hand, q));
+            (tip(hand, &world, f) - target).norm()
+        };
+        let mut best = distance(&q);
+        let mut step = 0.25;
+        let mut sweeps = 0;
+        while step > MIN_STEP && sweeps < MAX_SWEEPS {
+            sweeps += 1;
+            let mut moved = false;
+            for &k in &dofs {
+                for sign in [1.0, -1.0] {
+                    let mut trial = q.clone();
+                    trial[k] += sign * step;
+                    hand.constrain(&mut trial);
+                    if trial[k] == q[k] {
+                        continue;
+                    }
+                    let d = distance(&trial);
+                    if d < best - 1e-12 {
+                        best = d;
+                        q = trial;
+                        moved = true;
+                        break;
+                    }
+                }
+            }
+            if !moved {
+                step *= 0.5;
+            }
+        }
+    }
+    q
+}

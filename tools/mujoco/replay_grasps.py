@@ -1,0 +1,207 @@
+"""Replays Shadow-hand grasps found by `prehensile grasp` in MuJoCo, an engine independent of ours.
+
+For each grasp result (JSON written by `prehensile grasp --hand assets/hands/shadow_hand/reach.xml
+--out R.json`) and its object mesh, the same MJCF file is loaded with MjSpec and
+  - the wrist joints are removed and the hand mount moved so that the palm sits exactly at the
+    result's palm pose (`bones[0]`, object frame = world frame);
+  - the object is added as a free body (its mesh, 0.2 kg, friction 1) at the origin;
+  - the hand starts at the result's joint angles; its own position actuators are commanded to the
+    grasp angles plus a squeeze of 0.2 rad toward closing (tendon actuators: the tendon length of
+    the grasp plus 0.2 times the tendon's coupling coefficients' sum);
+  - 0.3 s without gravity lets the squeeze build, then a load of m*g along one of the six axis
+    directions for 1 s; held = the object moved < 2 cm and turned < 30 degrees. Six runs per grasp.
+
+Run from the repository root:
+    pip install mujoco==4.0.0 numpy
+    cargo build --release -p prehensile-cli
+    cargo run --release -p prehensile-formats --example export_builtin_objects -- /tmp/objects
+    python3 tools/mujoco/replay_grasps.py --objects /tmp/objects --seeds 1 2 3
+It searches the grasps itself (power, precision and close movements) unless given --results.
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+import mujoco
+import numpy as np
+
+HAND = "assets/hands/shadow_hand/reach.xml"
+SQUEEZE = 0.2
+MASS = 0.2
+SETTLE = 0.3
+LOAD = 1.0
+DIRECTIONS = ["+x", "-x", "+y", "-y", "+z", "-z"]
+
+
+def quat_xyzw_to_wxyz(q):
+    return np.array([q[3], q[0], q[1], q[2]])
+
+
+def pose_matrix(pos, quat_wxyz):
+    m = np.eye(4)
+    r = np.zeros(9)
+    mujoco.mju_quat2Mat(r, np.asarray(quat_wxyz, float))
+    m[:3, :3] = r.reshape(3, 3)
+    m[:3, 3] = pos
+    return m
+
+
+def matrix_pose(m):
+    q = np.zeros(4)
+    mujoco.mju_mat2Quat(q, m[:3, :3].flatten())
+    return m[:3, 3].copy(), q
+
+
+def build(result, mesh_path):
+    """The scene, compiled inside the hand's folder so that its relative mesh paths resolve."""
+    mesh_path = os.path.abspath(mesh_path)
+    here = os.getcwd()
+    os.chdir(os.path.dirname(HAND))
+    try:
+        return build_here(result, mesh_path)
+    finally:
+        os.chdir(here)
+
+
+def build_here(result, mesh_path):
+    spec = mujoco.MjSpec.from_file(os.path.basename(HAND))
+    for name in ["robot0:A_WRJ1", "robot0:A_WRJ0"]:
+        spec.delete(spec.actuator(name))
+    for t in list(spec.tendons):
+        if "WRJ" in t.name:
+            spec.delete(t)
+    for s in list(spec.sensors):
+        if "WRJ" in s.name:
+            spec.delete(s)
+    for name in ["robot0:WRJ1", "robot0:WRJ0"]:
+        spec.delete(spec.joint(name))
+    # The floor goes, and so do the mesh geoms and meshes: the visual meshes are not in the
+    # repository (the fixture's stls/ folder), and the only mesh collider is the forearm's.
+    for g in list(spec.geoms):
+        if g.name == "floor0" or g.type == mujoco.mjtGeom.mjGEOM_MESH:
+            spec.delete(g)
+    for m in list(spec.meshes):
+        spec.delete(m)
+    # Where the palm sits relative to the mount, from a compiled copy.
+    model = spec.compile()
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    mount = model.body("robot0:hand mount").id
+    palm = model.body("robot0:palm").id
+    m_world = pose_matrix(data.xpos[mount], data.xquat[mount])
+    p_world = pose_matrix(data.xpos[palm], data.xquat[palm])
+    mount_to_palm = np.linalg.inv(m_world) @ p_world
+    target = pose_matrix(result["bones"][0]["pose"]["position"],
+                         quat_xyzw_to_wxyz(result["bones"][0]["pose"]["rotation_xyzw"]))
+    pos, quat = matrix_pose(target @ np.linalg.inv(mount_to_palm))
+    body = spec.body("robot0:hand mount")
+    body.pos = pos
+    body.quat = quat
+    body.alt.type = mujoco.mjtOrientation.mjORIENTATION_QUAT
+    mesh = spec.add_mesh()
+    mesh.name = "object_mesh"
+    mesh.file = mesh_path
+    obj = spec.worldbody.add_body()
+    obj.name = "object"
+    obj.add_freejoint()
+    geom = obj.add_geom()
+    geom.type = mujoco.mjtGeom.mjGEOM_MESH
+    geom.meshname = "object_mesh"
+    geom.mass = MASS
+    geom.friction = [1.0, 0.005, 0.0001]
+    geom.contype = 1
+    geom.conaffinity = 1
+    spec.option.gravity = [0, 0, 0]
+    return spec.compile()
+
+
+def replay(result, mesh_path):
+    angles = {j["name"]: j["angle"] for j in result["joints"]}
+    outcomes = []
+    for k, direction in enumerate(DIRECTIONS):
+        model = build(result, mesh_path)
+        data = mujoco.MjData(model)
+        for name, a in angles.items():
+            data.qpos[model.jnt_qposadr[model.joint(name).id]] = a
+        mujoco.mj_forward(model, data)
+        # Squeeze past contact: each joint the grasp moved away from the open pose (every angle
+        # zero) is pushed 0.2 rad further the same way; joints left open stay where they are.
+        for i in range(model.nu):
+            if model.actuator_trntype[i] != mujoco.mjtTrn.mjTRN_JOINT:
+                continue
+            j = model.actuator_trnid[i, 0]
+            q = data.qpos[model.jnt_qposadr[j]]
+            target = q + SQUEEZE * np.sign(q) if abs(q) > 0.05 else q
+            lo, hi = model.actuator_ctrlrange[i]
+            data.ctrl[i] = np.clip(target, lo, hi)
+        obj = model.body("object").id
+        steps = int(SETTLE / model.opt.timestep)
+        for _ in range(steps):
+            mujoco.mj_step(model, data)
+        p0, q0 = data.xpos[obj].copy(), data.xquat[obj].copy()
+        g = np.zeros(3)
+        g[k // 2] = 9.81 if k % 2 == 0 else -9.81
+        model.opt.gravity[:] = g
+        for _ in range(int(LOAD / model.opt.timestep)):
+            mujoco.mj_step(model, data)
+        moved = float(np.linalg.norm(data.xpos[obj] - p0))
+        dq = np.zeros(4)
+        neg = np.zeros(4)
+        mujoco.mju_negQuat(neg, q0)
+        mujoco.mju_mulQuat(dq, data.xquat[obj], neg)
+        turned = float(np.degrees(2 * np.arccos(min(1.0, abs(dq[0])))))
+        outcomes.append({"direction": direction, "held": moved < 0.02 and turned < 30,
+                         "moved_m": moved, "turned_degrees": turned})
+    return outcomes
+
+
+def search(obj, movement, seed, out):
+    p = subprocess.run(["./target/release/prehensile", "grasp", "--hand", HAND, "--object", obj,
+                        "--movement", movement, "--seed", str(seed), "--out", out],
+                       capture_output=True, text=True)
+    return p.returncode
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--objects", required=True, help="folder of the built-in objects as OBJ")
+    ap.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 3])
+    ap.add_argument("--movements", nargs="+", default=["power", "precision", "close"])
+    ap.add_argument("--validity", default="holds")
+    args = ap.parse_args()
+    meshes = {name: os.path.join(args.objects, f"{name}.obj")
+              for name in ["sphere", "box", "cylinder", "torus", "mug"]}
+    for f in ["robosuite_lemon.stl", "robosuite_milk.stl", "robosuite_bread.stl",
+              "robosuite_cereal.stl", "robosuite_can.obj"]:
+        meshes[f"assets/objects/{f}"] = f"assets/objects/{f}"
+    total = held6 = held5 = gravity = 0
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for obj, mesh in meshes.items():
+            for movement in args.movements:
+                for seed in args.seeds:
+                    out = os.path.join(tmp, "r.json")
+                    code = search(obj, movement, seed, out)
+                    if code != 0:
+                        rows.append((obj, movement, seed, "no valid grasp"))
+                        continue
+                    result = json.load(open(out))
+                    outcomes = replay(result, mesh)
+                    n = sum(o["held"] for o in outcomes)
+                    total += 1
+                    held6 += n == 6
+                    held5 += n >= 5
+                    gravity += outcomes[5]["held"]
+                    rows.append((obj, movement, seed, f"held in {n} of 6 "
+                                 f"({' '.join(o['direction'] for o in outcomes if o['held'])})"))
+    for r in rows:
+        print(f"{r[0].split('/')[-1]:<24} {r[1]:<10} seed {r[2]}: {r[3]}")
+    print(f"{total} valid Shadow grasps replayed in MuJoCo {mujoco.__version__}: "
+          f"{held5} held in >= 5 of 6 directions, {held6} in all 6, {gravity} against gravity (-z)")
+
+
+if __name__ == "__main__":
+    sys.exit(main())
