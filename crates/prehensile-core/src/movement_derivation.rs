@@ -79,7 +79,13 @@ pub fn derive_power(hand: &HandModel) -> Option<GraspMovement> {
         })
         .collect();
     let end = reach_targets(hand, &targets);
-    Some(GraspMovement::derived(hand, "power", end, center, Vec::new()))
+    Some(GraspMovement::derived(
+        hand,
+        "power",
+        end,
+        center,
+        Vec::new(),
+    ))
 }
 
 /// The derived precision movement (thumb and index pinch), or `None` for a hand without a
@@ -129,7 +135,10 @@ impl PalmFrame {
             return None;
         }
         let knuckles = Point3::from(
-            others.iter().fold(Vec3::zeros(), |s, &f| s + bases[f].coords) / others.len() as f64,
+            others
+                .iter()
+                .fold(Vec3::zeros(), |s, &f| s + bases[f].coords)
+                / others.len() as f64,
         );
         let length = others
             .iter()

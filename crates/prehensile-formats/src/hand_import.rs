@@ -207,6 +207,66 @@ pub fn build_in_hand_frame(
     Ok(hand)
 }
 
+/// The file name without folder and extension, to name a hand whose file names none.
+pub fn file_stem(source: &str) -> String {
+    std::path::Path::new(source)
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .unwrap_or(source)
+        .to_string()
+}
+
+/// Most a box's two largest faces may lie beyond the capsules standing in for it, metres.
+pub const BOX_FACE_TOLERANCE: f64 = 0.001;
+
+/// Capsules standing in for a box of half extents `half` placed at `frame`, never outside it:
+/// rows of capsules with the radius of the smallest half extent run along the longest side, close
+/// enough that the two largest faces lie within [`BOX_FACE_TOLERANCE`] of their union, and one
+/// capsule across each end closes the ends. Edges and corners come out rounded with that radius.
+/// (A single capsule along the longest side with the larger other half side as its radius, as
+/// before, made the Shadow hand's palm 21 mm thicker on each face.)
+pub fn box_capsules(frame: &Transform, half: [f64; 3]) -> Vec<(Point3, Point3, f64)> {
+    if !half.iter().all(|h| h.is_finite() && *h > 0.0) {
+        // One degenerate capsule, which the hand's checks then refuse with the bone's name.
+        let radius = half.iter().copied().fold(f64::INFINITY, f64::min);
+        let centre = frame * Point3::origin();
+        return vec![(centre, centre, radius)];
+    }
+    let mut axes = [0usize, 1, 2];
+    axes.sort_by(|&a, &b| half[b].total_cmp(&half[a]));
+    let [long, mid, short] = axes;
+    let radius = half[short];
+    let at = |along_long: f64, along_mid: f64| {
+        let mut p = Point3::origin();
+        p[long] = along_long;
+        p[mid] = along_mid;
+        frame * p
+    };
+    let (reach_long, reach_mid) = (half[long] - radius, half[mid] - radius);
+    let dip = BOX_FACE_TOLERANCE.min(radius);
+    let spacing = 2.0 * (radius * radius - (radius - dip) * (radius - dip)).sqrt();
+    let rows = if reach_mid > 1e-9 {
+        (2.0 * reach_mid / spacing).ceil() as usize + 1
+    } else {
+        1
+    };
+    let mut capsules = Vec::with_capacity(rows + 2);
+    for k in 0..rows {
+        let u = if rows == 1 {
+            0.0
+        } else {
+            -reach_mid + 2.0 * reach_mid * k as f64 / (rows - 1) as f64
+        };
+        capsules.push((at(-reach_long, u), at(reach_long, u), radius));
+    }
+    if rows > 1 {
+        for end in [-reach_long, reach_long] {
+            capsules.push((at(end, -reach_mid), at(end, reach_mid), radius));
+        }
+    }
+    capsules
+}
+
 /// A bone part with the common defaults.
 pub fn bone(name: &str, parent: Option<&str>, rest: Transform) -> BonePart {
     BonePart {

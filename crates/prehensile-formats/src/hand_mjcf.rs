@@ -13,7 +13,9 @@ use prehensile_core::math::{Point3, Rotation, Transform, Vec3};
 use prehensile_core::HandModel;
 use roxmltree::{Document, Node};
 
-use crate::hand_import::{bone, build_in_hand_frame, finger_name, Sidecar};
+use crate::hand_import::{
+    bone, box_capsules, build_in_hand_frame, file_stem, finger_name, Sidecar,
+};
 use crate::FormatError;
 
 /// Most nested `<include>` levels.
@@ -199,6 +201,9 @@ pub fn parse_hand_mjcf_with(
     };
 
     let mut dropped = Vec::new();
+    // What became of the collision geoms that are not one capsule.
+    let mut boxes = Vec::new();
+    let mut skipped = Vec::new();
     while let [only] = bodies(palm).as_slice() {
         dropped.push(palm.attribute("name").unwrap_or("?").to_string());
         palm = *only;
@@ -284,7 +289,10 @@ pub fn parse_hand_mjcf_with(
         Ok(Transform::from_parts(pos.into(), rotation))
     };
     let mut parts = HandParts {
-        name: root.attribute("model").unwrap_or("mjcf hand").to_string(),
+        name: root
+            .attribute("model")
+            .map(str::to_string)
+            .unwrap_or_else(|| file_stem(source)),
         description: if dropped.is_empty() {
             format!("imported from {source}")
         } else {
@@ -444,14 +452,20 @@ pub fn parse_hand_mjcf_with(
             let collides = get("contype").is_none_or(|c| c != "0")
                 || get("conaffinity").is_none_or(|c| c != "0");
             let kind = get("type").unwrap_or_else(|| "sphere".into());
-            if !collides || kind == "mesh" || kind == "plane" || g.has_attribute("mesh") {
+            if !collides {
+                continue;
+            }
+            let geom_name = g.attribute("name").unwrap_or("unnamed").to_string();
+            if kind == "mesh" || kind == "plane" || g.has_attribute("mesh") {
+                skipped.push(format!("{geom_name} ({kind})"));
                 continue;
             }
             let size = numbers(g, &get("size").unwrap_or_default(), "size")?;
-            let capsule = if let Some(ft) = get("fromto") {
-                match (numbers(g, &ft, "fromto")?.as_slice(), size.first()) {
-                    ([a, b, c, d, e, f], Some(r)) => {
-                        (Point3::new(*a, *b, *c), Point3::new(*d, *e, *f), *r)
+            if let (Some(ft), Some(r)) = (get("fromto"), size.first()) {
+                match numbers(g, &ft, "fromto")?.as_slice() {
+                    [a, b, c, d, e, f] => {
+                        part.capsules
+                            .push((Point3::new(*a, *b, *c), Point3::new(*d, *e, *f), *r))
                     }
                     _ => {
                         return Err(FormatError::at(
@@ -461,36 +475,32 @@ pub fn parse_hand_mjcf_with(
                         ))
                     }
                 }
-            } else {
-                let frame = frame_of(g)?;
-                let (half, radius) = match (kind.as_str(), size.as_slice()) {
-                    ("capsule" | "cylinder", [r, h, ..]) => (Vec3::new(0.0, 0.0, *h), *r),
-                    ("sphere", [r, ..]) => (Vec3::zeros(), *r),
-                    ("box", [x, y, z]) => {
-                        let s = Vec3::new(*x, *y, *z);
-                        let k = s.imax();
-                        let mut half = Vec3::zeros();
-                        half[k] = s[k];
-                        (
-                            half,
-                            (0..3).filter(|&i| i != k).map(|i| s[i]).fold(0.0, f64::max),
-                        )
-                    }
-                    (other, _) => {
-                        return Err(FormatError::at(
-                            source,
-                            at(g),
-                            format!("geom type '{other}' with size {size:?} is not supported"),
-                        ))
-                    }
-                };
-                (
-                    frame * Point3::from(-half),
-                    frame * Point3::from(half),
-                    radius,
-                )
+                continue;
+            }
+            let frame = frame_of(g)?;
+            let half = match (kind.as_str(), size.as_slice()) {
+                ("capsule" | "cylinder", [r, h, ..]) => (Vec3::new(0.0, 0.0, *h), *r),
+                ("sphere", [r, ..]) => (Vec3::zeros(), *r),
+                ("box", [x, y, z]) => {
+                    let capsules = box_capsules(&frame, [*x, *y, *z]);
+                    boxes.push(format!("{geom_name} ({})", capsules.len()));
+                    part.capsules.extend(capsules);
+                    continue;
+                }
+                (other, _) => {
+                    return Err(FormatError::at(
+                        source,
+                        at(g),
+                        format!("geom type '{other}' with size {size:?} is not supported"),
+                    ))
+                }
             };
-            part.capsules.push(capsule);
+            let (half, radius) = half;
+            part.capsules.push((
+                frame * Point3::from(-half),
+                frame * Point3::from(half),
+                radius,
+            ));
         }
         let children = bodies(body);
         if children.is_empty() {
@@ -565,13 +575,21 @@ pub fn parse_hand_mjcf_with(
             }
         }
     }
-    parts.description = if dropped.is_empty() {
-        format!("imported from {source}")
-    } else {
-        format!(
-            "imported from {source}; dropped above the palm: {}",
-            dropped.join(", ")
-        )
-    };
+    parts.description = format!("imported from {source}");
+    if !dropped.is_empty() {
+        parts.description += &format!("; dropped above the palm: {}", dropped.join(", "));
+    }
+    if !boxes.is_empty() {
+        parts.description += &format!(
+            "; boxes as capsules within 1 mm of their two largest faces, edges rounded: {}",
+            boxes.join(", ")
+        );
+    }
+    if !skipped.is_empty() {
+        parts.description += &format!(
+            "; collision geoms skipped (meshes and planes are not supported): {}",
+            skipped.join(", ")
+        );
+    }
     build_in_hand_frame(parts, source, sidecar)
 }

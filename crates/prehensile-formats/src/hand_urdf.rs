@@ -10,7 +10,9 @@ use prehensile_core::math::{Point3, Rotation, Transform, Vec3};
 use prehensile_core::HandModel;
 use roxmltree::{Document, Node};
 
-use crate::hand_import::{bone, build_in_hand_frame, finger_name, radius_from_mass, Sidecar};
+use crate::hand_import::{
+    bone, box_capsules, build_in_hand_frame, file_stem, finger_name, radius_from_mass, Sidecar,
+};
 use crate::FormatError;
 
 struct Link {
@@ -98,27 +100,15 @@ pub fn parse_hand_urdf_with(
                     radius,
                 )
             };
-            capsules.push(match geometry.tag_name().name() {
-                "cylinder" | "capsule" => segment(
+            match geometry.tag_name().name() {
+                "cylinder" | "capsule" => capsules.push(segment(
                     number(geometry, "length", source, &at)? / 2.0,
                     number(geometry, "radius", source, &at)?,
-                ),
-                "sphere" => segment(0.0, number(geometry, "radius", source, &at)?),
+                )),
+                "sphere" => capsules.push(segment(0.0, number(geometry, "radius", source, &at)?)),
                 "box" => {
-                    // The longest side becomes the capsule's axis, the larger other half side its radius.
                     let size = vector(geometry, "size", source, &at)?;
-                    let k = size.imax();
-                    let mut half = Vec3::zeros();
-                    half[k] = size[k] / 2.0;
-                    let radius = (0..3)
-                        .filter(|&i| i != k)
-                        .map(|i| size[i] / 2.0)
-                        .fold(0.0, f64::max);
-                    (
-                        frame * Point3::from(-half),
-                        frame * Point3::from(half),
-                        radius,
-                    )
+                    capsules.extend(box_capsules(&frame, (size / 2.0).into()));
                 }
                 "mesh" => continue,
                 other => {
@@ -128,7 +118,7 @@ pub fn parse_hand_urdf_with(
                         format!("unknown collision geometry <{other}>"),
                     ))
                 }
-            });
+            }
         }
         order.push(name.clone());
         links.insert(
@@ -142,7 +132,10 @@ pub fn parse_hand_urdf_with(
         );
     }
     let mut parts = HandParts {
-        name: robot.attribute("name").unwrap_or("urdf hand").to_string(),
+        name: robot
+            .attribute("name")
+            .map(str::to_string)
+            .unwrap_or_else(|| file_stem(source)),
         description: format!("imported from {source}"),
         ..Default::default()
     };
