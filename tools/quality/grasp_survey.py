@@ -4,7 +4,9 @@ Runs `prehensile grasp` for every combination under both validity rules (`holds`
 `thesis`) and reports, per rule: how many searches return a valid grasp, how many of those are in
 force closure (from the result's own `stability`, computed with the full 8-edge cone and Qhull-
 checked hull), and how many have every contact normal on one side of a plane (a hand that only
-pushes the object one way: found by a small linear program with scipy).
+pushes the object one way: found by a small linear program with scipy), and how many of the
+valid grasps the rapier hold test (`--hold`: squeeze with grip strength 0.5, then gravity along each
+axis direction for 1 s) holds in at least 5 of 6 directions and against gravity along -z.
 
 Run from the repository root after `cargo build --release -p prehensile-cli`:
     pip install scipy numpy
@@ -44,7 +46,7 @@ def run(hand, obj, movement, seed, rule):
     with tempfile.NamedTemporaryFile(suffix=".json") as f:
         p = subprocess.run(["./target/release/prehensile", "grasp", "--hand", hand, "--object", obj,
                             "--movement", movement, "--seed", str(seed), "--validity", rule,
-                            "--out", f.name], capture_output=True, text=True)
+                            "--hold", "--out", f.name], capture_output=True, text=True)
         if p.returncode == 2:
             return None
         return json.load(open(f.name))
@@ -53,7 +55,8 @@ def run(hand, obj, movement, seed, rule):
 def main():
     rows = {}
     for rule in ["holds", "thesis"]:
-        stats = {"searches": 0, "valid": 0, "fc": 0, "one_sided": 0, "eps": [], "ms": []}
+        stats = {"searches": 0, "valid": 0, "fc": 0, "one_sided": 0, "eps": [], "ms": [],
+                 "held5": 0, "held_gravity": 0}
         per_hand = {}
         for hand, obj, movement, seed in itertools.product(HANDS, OBJECTS, MOVEMENTS, SEEDS):
             if hand.endswith(".xml") and movement == "precision":
@@ -75,13 +78,16 @@ def main():
             stats["eps"].append(r["stability"]["epsilon"])
             if one_sided([c["normal"] for c in r["contacts"]]):
                 stats["one_sided"] += 1
+            stats["held5"] += r["hold"]["held"] >= 5
+            stats["held_gravity"] += r["hold"]["directions"][5]["held"]
         rows[rule] = (stats, per_hand)
     for rule, (s, per_hand) in rows.items():
         print(f"validity {rule}: {s['searches']} searches, {s['valid']} valid; of the valid: "
               f"{s['fc']} in force closure ({100 * s['fc'] / max(s['valid'], 1):.0f}%), "
               f"{s['one_sided']} with every contact normal on one side; "
               f"median epsilon {np.median(s['eps']) if s['eps'] else 0:.3f}; "
-              f"median search {np.median(s['ms']):.1f} ms")
+              f"median search {np.median(s['ms']):.1f} ms; rapier hold test: {s['held5']} held in "
+              f">= 5 of 6 directions, {s['held_gravity']} against gravity")
         for hand, (n, v, fc) in per_hand.items():
             print(f"    {hand:<12} {n:>3} searches, {v:>3} valid, {fc:>3} in force closure")
 

@@ -188,10 +188,10 @@ pub struct GraspArgs {
     #[arg(long, default_value = "auto")]
     pub movement: String,
     /// Hook position X,Y,Z in the object's frame (default: its centre of mass).
-    #[arg(long, value_parser = parse_point)]
+    #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
     pub hook: Option<[f64; 3]>,
     /// Shoulder position X,Y,Z (default: 35 cm behind, 20 cm aside and 35 cm above the hook).
-    #[arg(long, value_parser = parse_point)]
+    #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
     pub shoulder: Option<[f64; 3]>,
     /// The world's up axis: x, y or z.
     #[arg(long, default_value = "z")]

@@ -3,6 +3,15 @@
 //! Two layers, as ripgrep does: `args` parses and validates flags; each command resolves them
 //! into a run configuration and runs it. Errors print what, where and how to fix, exit code 2.
 
+/// `println!` that ends the command with an error instead of panicking when standard output is
+/// closed (`| head`) or full (`> /dev/full`).
+macro_rules! out {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        writeln!(std::io::stdout().lock(), $($arg)*).map_err($crate::CliError::output)?
+    }};
+}
+
 mod args;
 mod commands;
 mod picture;
@@ -19,6 +28,11 @@ impl CliError {
     /// An error from any displayable cause.
     pub fn from_display(e: impl std::fmt::Display) -> Self {
         Self(e.to_string())
+    }
+
+    /// Standard output could not be written.
+    pub fn output(e: std::io::Error) -> Self {
+        Self(format!("cannot write to standard output: {e}"))
     }
 }
 

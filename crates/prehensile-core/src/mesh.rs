@@ -7,6 +7,9 @@ use crate::math::{Point3, Vec3};
 /// Largest number of triangles a mesh may have; larger inputs are refused rather than exhausting
 /// memory.
 pub const MAX_TRIANGLES: usize = 20_000_000;
+/// Largest coordinate accepted, metres (1000 km): beyond it the units or scale are wrong, and
+/// squared distances would lose all precision.
+pub const MAX_COORDINATE: f64 = 1e6;
 
 /// A triangle soup welded into an indexed mesh: vertices, and triangles as index triples.
 #[derive(Debug, Clone, PartialEq)]
@@ -27,6 +30,15 @@ pub enum MeshError {
     /// A coordinate is NaN or infinite.
     #[error("vertex {vertex} has a non-finite coordinate {value:?}; fix or remove it in the source file")]
     NonFinite {
+        /// Index of the vertex in the input.
+        vertex: usize,
+        /// The offending position.
+        value: [f64; 3],
+    },
+    /// A coordinate lies farther than [`MAX_COORDINATE`] from the origin: no object is that far
+    /// or that big; the units or the scale are wrong.
+    #[error("vertex {vertex} lies at {value:?}, more than {MAX_COORDINATE} m from the origin; check the units (--units mm|cm|m) or --scale")]
+    TooFar {
         /// Index of the vertex in the input.
         vertex: usize,
         /// The offending position.
@@ -110,6 +122,12 @@ impl TriangleMesh {
         for (i, p) in positions.iter().enumerate() {
             if !p.iter().all(|c| c.is_finite()) {
                 return Err(MeshError::NonFinite {
+                    vertex: i,
+                    value: [p.x, p.y, p.z],
+                });
+            }
+            if p.iter().any(|c| c.abs() > MAX_COORDINATE) {
+                return Err(MeshError::TooFar {
                     vertex: i,
                     value: [p.x, p.y, p.z],
                 });
@@ -310,10 +328,10 @@ impl TriangleMesh {
                     continue;
                 }
                 let nt = mesh.triangles[n];
-                let x = *nt
-                    .iter()
-                    .find(|&&v| v != a && v != b)
-                    .expect("a triangle has a third vertex");
+                // A neighbour collapsed onto the edge has no third vertex: leave it to the check.
+                let Some(&x) = nt.iter().find(|&&v| v != a && v != b) else {
+                    continue;
+                };
                 dead[t] = true;
                 dead[n] = true;
                 added.push([b, c, x]);

@@ -18,7 +18,7 @@ pub enum ObjectError {
     #[error(transparent)]
     Mesh(#[from] MeshError),
     /// The object is implausibly small or large, usually a units mistake.
-    #[error("the object is {size:.3e} m across; expected between {MIN_OBJECT_SIZE} m and {MAX_OBJECT_SIZE} m. Is it in millimetres? Use --scale 0.001 (or the right factor)")]
+    #[error("the object is {size:.3e} m across; expected between {MIN_OBJECT_SIZE} m and {MAX_OBJECT_SIZE} m. {}", units_hint(*size))]
     AbsurdSize {
         /// Largest side in metres.
         size: f64,
@@ -26,6 +26,26 @@ pub enum ObjectError {
     /// A hook is not a finite point.
     #[error("hook {0} is not a finite point")]
     BadHook(usize),
+}
+
+/// What to change so that an object `size` metres across gets a plausible size.
+pub fn units_hint(size: f64) -> String {
+    let plausible = |s: f64| (MIN_OBJECT_SIZE..=MAX_OBJECT_SIZE).contains(&s);
+    if plausible(size * 0.001) {
+        return "Is it in millimetres? Use --units mm".into();
+    }
+    if plausible(size * 0.01) {
+        return "Is it in centimetres? Use --units cm".into();
+    }
+    if !(size.is_finite() && size > 0.0) {
+        return "Check its coordinates".into();
+    }
+    // The power of ten that makes it about 10 cm across.
+    let factor = 10f64.powf((0.1 / size).log10().round());
+    format!(
+        "Check its units; --scale {factor:e} would make it {:.3} m across",
+        size * factor
+    )
 }
 
 /// A closed triangle mesh ready for grasping: mass properties, hooks, colliders.

@@ -69,8 +69,7 @@ pub fn load_hand_gltf_skinned(path: &Path) -> Result<(HandModel, SkinnedMesh), F
             "a skinned hand's sidecar may only name fingers ([fingers]); fingertips come from joints named …tip or …end, movements from the human hand",
         ));
     }
-    let bytes = std::fs::read(path)
-        .map_err(|e| FormatError::new(&name, format!("cannot read the file: {e}")))?;
+    let bytes = crate::read_input(path, crate::MAX_MESH_BYTES)?;
     let gltf = gltf::Gltf::from_slice(&bytes)
         .map_err(|e| FormatError::new(&name, format!("not a readable glTF file: {e}")))?;
     let blob = gltf.blob.clone().unwrap_or_default();

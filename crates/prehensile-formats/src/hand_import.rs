@@ -67,8 +67,7 @@ impl Sidecar {
             return Ok(None);
         }
         let name = path.display().to_string();
-        let text = std::fs::read_to_string(&path)
-            .map_err(|e| FormatError::new(&name, format!("cannot read the file: {e}")))?;
+        let text = crate::read_input_text(&path, crate::MAX_TEXT_BYTES)?;
         toml::from_str(&text)
             .map(Some)
             .map_err(|e| FormatError::new(&name, e.message().to_string()))

@@ -24,13 +24,33 @@ const MAX_INCLUDE_DEPTH: usize = 8;
 /// Reads an MJCF hand, following `<include>` files relative to it.
 pub fn load_hand_mjcf(path: &Path) -> Result<HandModel, FormatError> {
     let name = path.display().to_string();
-    let text = expand_includes(path, 0)?;
+    let mut budget = IncludeBudget {
+        bytes: crate::MAX_TEXT_BYTES,
+        files: MAX_INCLUDES,
+    };
+    let text = expand_includes(path, 0, &mut budget)?;
     parse_hand_mjcf_with(&text, &name, Sidecar::beside(path)?.as_ref())
 }
 
-/// Text of an MJCF file with every `<include file="..."/>` replaced by the included file's
-/// content inside its `<mujoco>` element.
-fn expand_includes(path: &Path, depth: usize) -> Result<String, FormatError> {
+/// Most files an MJCF hand may include, all levels together.
+const MAX_INCLUDES: usize = 256;
+
+/// What the includes may still add: bytes of expanded text and files.
+struct IncludeBudget {
+    bytes: u64,
+    files: usize,
+}
+
+/// Text of an MJCF file with every `<include file="..."/>` element (found by parsing the XML, so
+/// includes inside comments stay comments) replaced by the included file's content inside its
+/// `<mujoco>` element. Included files must lie in the including file's folder or below; the
+/// expanded text and the number of files are bounded, so a fan-out of includes cannot exhaust
+/// memory.
+fn expand_includes(
+    path: &Path,
+    depth: usize,
+    budget: &mut IncludeBudget,
+) -> Result<String, FormatError> {
     let name = path.display().to_string();
     if depth > MAX_INCLUDE_DEPTH {
         return Err(FormatError::new(
@@ -38,35 +58,31 @@ fn expand_includes(path: &Path, depth: usize) -> Result<String, FormatError> {
             "includes nest more than 8 deep; is there an include cycle?",
         ));
     }
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| FormatError::new(&name, format!("cannot read the file: {e}")))?;
+    let text = crate::read_input_text(path, budget.bytes)?;
+    let doc = Document::parse(&text)
+        .map_err(|e| FormatError::at(&name, format!("line {}", e.pos().row), e.to_string()))?;
+    let mut includes: Vec<(std::ops::Range<usize>, String)> = Vec::new();
+    for node in doc.descendants().filter(|n| n.has_tag_name("include")) {
+        let file = node.attribute("file").ok_or_else(|| {
+            FormatError::at(
+                &name,
+                format!("line {}", doc.text_pos_at(node.range().start).row),
+                "<include> has no file attribute",
+            )
+        })?;
+        includes.push((node.range(), file.to_string()));
+    }
     let mut out = String::with_capacity(text.len());
-    let mut rest = text.as_str();
-    while let Some(start) = rest.find("<include") {
-        out.push_str(&rest[..start]);
-        let tail = &rest[start..];
-        let end = tail
-            .find("/>")
-            .map(|e| e + 2)
-            .into_iter()
-            .chain(tail.find("</include>").map(|e| e + 10))
-            .min();
-        let Some(end) = end else {
+    let mut last = 0;
+    for (range, file) in includes {
+        if budget.files == 0 {
             return Err(FormatError::new(
                 &name,
-                "an <include> element is not closed",
+                format!("more than {MAX_INCLUDES} included files in all"),
             ));
-        };
-        let element = &tail[..end];
-        let file = element
-            .split("file=\"")
-            .nth(1)
-            .and_then(|s| s.split('"').next())
-            .ok_or_else(|| FormatError::new(&name, format!("{element} has no file attribute")))?;
-        let included = expand_includes(
-            &path.parent().unwrap_or(Path::new(".")).join(file),
-            depth + 1,
-        )?;
+        }
+        budget.files -= 1;
+        let included = expand_includes(&crate::confined(path, &file)?, depth + 1, budget)?;
         // Keep what is inside the included file's <mujoco> element.
         let inner = match (included.find("<mujoco"), included.rfind("</mujoco>")) {
             (Some(open), Some(close)) => {
@@ -78,10 +94,23 @@ fn expand_includes(path: &Path, depth: usize) -> Result<String, FormatError> {
             }
             _ => included,
         };
+        budget.bytes = budget
+            .bytes
+            .checked_sub(inner.len() as u64)
+            .ok_or_else(|| {
+                FormatError::new(
+                    &name,
+                    format!(
+                        "the included files add up to more than {} bytes",
+                        crate::MAX_TEXT_BYTES
+                    ),
+                )
+            })?;
+        out.push_str(&text[last..range.start]);
         out.push_str(&inner);
-        rest = &tail[end..];
+        last = range.end;
     }
-    out.push_str(rest);
+    out.push_str(&text[last..]);
     Ok(out)
 }
 

@@ -54,12 +54,14 @@ pub fn load_hand(path: &Path) -> Result<HandModel, FormatError> {
         other => {
             return Err(FormatError::new(
                 &name,
-                format!("unknown hand file extension {other:?}; use .toml, .urdf, .xml (MJCF) or .glb (skinned glTF)"),
+                format!(
+                    "unknown hand file extension '{}'; use .toml, .urdf, .xml (MJCF) or .glb (skinned glTF)",
+                    other.map_or("(none)".to_string(), |e| format!(".{e}"))
+                ),
             ))
         }
     }
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| FormatError::new(&name, format!("cannot read the file: {e}")))?;
+    let text = crate::read_input_text(path, crate::MAX_TEXT_BYTES)?;
     parse_hand_toml(&text, &name)
 }
 

@@ -302,8 +302,7 @@ pub fn parse_hand_urdf_with(
 /// Reads a URDF hand file.
 pub fn load_hand_urdf(path: &std::path::Path) -> Result<HandModel, FormatError> {
     let name = path.display().to_string();
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| FormatError::new(&name, format!("cannot read the file: {e}")))?;
+    let text = crate::read_input_text(path, crate::MAX_TEXT_BYTES)?;
     parse_hand_urdf_with(&text, &name, Sidecar::beside(path)?.as_ref())
 }
 

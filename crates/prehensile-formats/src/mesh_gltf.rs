@@ -10,7 +10,8 @@ use crate::FormatError;
 /// Reads every triangle of the default scene, in scene coordinates.
 pub fn read_gltf_triangles(path: &Path) -> Result<(Vec<Point3>, Vec<[usize; 3]>), FormatError> {
     let name = path.display().to_string();
-    let gltf = gltf::Gltf::open(path)
+    let bytes = crate::read_input(path, crate::MAX_MESH_BYTES)?;
+    let gltf = gltf::Gltf::from_slice(&bytes)
         .map_err(|e| FormatError::new(&name, format!("not a readable glTF file: {e}")))?;
     let doc = &gltf.document;
     // Buffers: the GLB's binary chunk, or files beside a .gltf. (Embedded base64 data URIs are
@@ -25,10 +26,8 @@ pub fn read_gltf_triangles(path: &Path) -> Result<(Vec<Point3>, Vec<[usize; 3]>)
                 )
             })?,
             gltf::buffer::Source::Uri(uri) if !uri.starts_with("data:") => {
-                let file = path.parent().unwrap_or(Path::new(".")).join(uri);
-                std::fs::read(&file).map_err(|e| {
-                    FormatError::new(&name, format!("cannot read buffer {}: {e}", file.display()))
-                })?
+                let file = crate::confined(path, uri)?;
+                crate::read_input(&file, crate::MAX_MESH_BYTES)?
             }
             gltf::buffer::Source::Uri(_) => {
                 return Err(FormatError::new(

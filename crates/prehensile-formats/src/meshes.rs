@@ -7,9 +7,6 @@ use prehensile_core::{ObjectModel, TriangleMesh};
 
 use crate::{parse_obj, parse_ply, parse_stl, FormatError};
 
-/// Largest mesh file read, bytes.
-const MAX_FILE_BYTES: u64 = 2 << 30;
-
 /// Reads an OBJ, STL, PLY or glTF/GLB file into a welded mesh, every coordinate multiplied by `scale`.
 pub fn read_mesh(path: &Path, scale: f64) -> Result<TriangleMesh, FormatError> {
     let name = path.display().to_string();
@@ -19,30 +16,21 @@ pub fn read_mesh(path: &Path, scale: f64) -> Result<TriangleMesh, FormatError> {
             format!("scale {scale} must be a positive number"),
         ));
     }
-    let size = std::fs::metadata(path)
-        .map_err(|e| FormatError::new(&name, format!("cannot read the file: {e}")))?
-        .len();
-    if size > MAX_FILE_BYTES {
-        return Err(FormatError::new(
-            &name,
-            format!("{size} bytes is larger than the {MAX_FILE_BYTES}-byte limit"),
-        ));
-    }
-    let bytes = std::fs::read(path)
-        .map_err(|e| FormatError::new(&name, format!("cannot read the file: {e}")))?;
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase)
         .unwrap_or_default();
+    let read = || crate::read_input(path, crate::MAX_MESH_BYTES);
     let (vertices, triangles) = match ext.as_str() {
         "obj" => {
+            let bytes = read()?;
             let text = std::str::from_utf8(&bytes)
                 .map_err(|e| FormatError::new(&name, format!("an OBJ file must be text: {e}")))?;
             parse_obj(text, &name)?
         }
-        "stl" => parse_stl(&bytes, &name)?,
-        "ply" => parse_ply(&bytes, &name)?,
+        "stl" => parse_stl(&read()?, &name)?,
+        "ply" => parse_ply(&read()?, &name)?,
         "gltf" | "glb" => crate::mesh_gltf::read_gltf_triangles(path)?,
         _ => {
             return Err(FormatError::new(

@@ -69,10 +69,12 @@ fn closed_fixtures_are_closed_and_open_ones_are_named() {
 
 #[test]
 fn absurd_sizes_suggest_a_scale() {
+    // 800 m across: millimetres read as metres, and the hint says so (it used to say
+    // --scale 0.001 whichever way the size was off).
     let e = load_object(&asset("robosuite_can.obj"), 10_000.0).unwrap_err();
-    assert!(e.to_string().contains("--scale"), "{e}");
+    assert!(e.to_string().contains("--units mm"), "{e}");
     let e = load_object(&asset("robosuite_can.obj"), 1e-5).unwrap_err();
-    assert!(e.to_string().contains("--scale"), "{e}");
+    assert!(e.to_string().contains("--scale 1e5"), "{e}");
     assert!(read_mesh(&asset("robosuite_can.obj"), f64::NAN).is_err());
     assert!(read_mesh(&asset("robosuite_can.obj"), -1.0).is_err());
 }

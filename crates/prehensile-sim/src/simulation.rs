@@ -101,6 +101,12 @@ impl Settings {
                 "give a positive step, e.g. 0.001",
             );
         }
+        if self.dt < 1e-5 {
+            return bad(
+                &format!("time step {} s is too small", self.dt),
+                "give at least 1e-5 s (0.2–1 ms is typical); smaller steps only take longer",
+            );
+        }
         if self.dt > 0.01 {
             return bad(
                 &format!("time step {} s is too large", self.dt),

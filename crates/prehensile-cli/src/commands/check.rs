@@ -21,15 +21,15 @@ pub fn run(args: &CheckArgs) -> Result<i32, CliError> {
     }
     let report = mesh.report();
     if args.json {
-        println!(
+        out!(
             "{}",
             serde_json::to_string_pretty(&report).map_err(CliError::from_display)?
         );
     } else {
-        println!("{}", args.mesh.display());
-        println!("  triangles           {}", report.triangles);
-        println!("  vertices (welded)   {}", report.vertices);
-        println!(
+        out!("{}", args.mesh.display());
+        out!("  triangles           {}", report.triangles);
+        out!("  vertices (welded)   {}", report.vertices);
+        out!(
             "  closed              {}",
             if report.boundary_edges == 0 {
                 "yes"
@@ -37,14 +37,16 @@ pub fn run(args: &CheckArgs) -> Result<i32, CliError> {
                 "no"
             }
         );
-        println!("  boundary edges      {}", report.boundary_edges);
-        println!("  non-manifold edges  {}", report.non_manifold_edges);
-        println!("  flipped edges       {}", report.inconsistent_edges);
-        println!("  degenerate triangles {}", report.degenerate_triangles);
-        println!("  volume              {:.6e} m³", report.volume);
-        println!(
+        out!("  boundary edges      {}", report.boundary_edges);
+        out!("  non-manifold edges  {}", report.non_manifold_edges);
+        out!("  flipped edges       {}", report.inconsistent_edges);
+        out!("  degenerate triangles {}", report.degenerate_triangles);
+        out!("  volume              {:.6e} m³", report.volume);
+        out!(
             "  size                {:.4} x {:.4} x {:.4} m",
-            report.size[0], report.size[1], report.size[2]
+            report.size[0],
+            report.size[1],
+            report.size[2]
         );
     }
     if report.defects.is_empty() {

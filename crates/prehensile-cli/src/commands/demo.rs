@@ -90,15 +90,15 @@ pub fn run(args: &DemoArgs) -> Result<i32, CliError> {
     bar.finish_and_clear();
     write(&args.out.join("index.html"), &gallery)?;
     for line in &table {
-        println!("{line}");
+        out!("{line}");
     }
-    println!(
+    out!(
         "\nwrote {} results (JSON, SVG picture, animated glTF scene) and {}; open it in a browser",
         hands.len() * objects.len(),
         args.out.join("index.html").display()
     );
     if invalid > 0 {
-        println!("{invalid} combination(s) found no valid grasp; their JSON says why");
+        out!("{invalid} combination(s) found no valid grasp; their JSON says why");
     }
     Ok(0)
 }

@@ -26,7 +26,7 @@ pub fn run(args: &FitArgs) -> Result<i32, CliError> {
             let path = args.out.with_extension("motion.json");
             let json = serde_json::to_string_pretty(&motion).map_err(CliError::from_display)?;
             super::write_file(&path, json.as_bytes())?;
-            println!(
+            out!(
                 "wrote {} (the synthetic example of a grasp of '{}')",
                 path.display(),
                 object.name()
@@ -40,7 +40,7 @@ pub fn run(args: &FitArgs) -> Result<i32, CliError> {
         .map_err(|e| CliError(format!("fitting: {e}")))?;
     let text = ControllerFile::new(&hand, &controller).to_toml();
     super::write_file(&args.out, text.as_bytes())?;
-    println!(
+    out!(
         "fitted {} frames ({:.2} s) for hand '{}'; wrote {}",
         motion.frames.len(),
         motion.frames.len() as f64 * motion.frame_time,

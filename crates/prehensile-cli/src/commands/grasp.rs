@@ -15,6 +15,9 @@ use prehensile_core::{HandModel, ObjectModel, Workspace};
 use crate::args::GraspArgs;
 use crate::{picture, sources, CliError};
 
+/// The largest `--budget-ms`: a day.
+const MAX_BUDGET_MS: f64 = 86_400_000.0;
+
 /// A resolved grasp request.
 pub struct Request<'a> {
     /// The hand.
@@ -221,10 +224,12 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
         .map(Point3::from)
         .unwrap_or_else(|| default_shoulder(&hand, &hook, &up));
     let budget = match args.budget_ms {
-        Some(ms) if ms.is_finite() && ms > 0.0 => Some(Duration::from_secs_f64(ms / 1000.0)),
+        Some(ms) if ms.is_finite() && ms > 0.0 && ms <= MAX_BUDGET_MS => {
+            Some(Duration::from_secs_f64(ms / 1000.0))
+        }
         Some(ms) => {
             return Err(CliError(format!(
-                "--budget-ms {ms} must be a positive number"
+                "--budget-ms {ms:e} must be a positive number of milliseconds, at most {MAX_BUDGET_MS} (a day)"
             )))
         }
         None => None,
@@ -271,7 +276,7 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
         Some(path) => std::fs::write(path, &json)
             .map_err(|e| CliError(format!("cannot write {}: {e}", path.display())))?,
         None if args.svg.is_none() && args.glb.is_none() && args.bvh.is_none() => {
-            println!("{json}")
+            out!("{json}")
         }
         None => {}
     }

@@ -65,18 +65,22 @@ pub fn run(args: &HandsArgs) -> Result<i32, CliError> {
     };
     let summaries: Vec<HandSummary> = hands.iter().map(summary).collect();
     if args.json {
-        println!(
+        out!(
             "{}",
             serde_json::to_string_pretty(&summaries).map_err(CliError::from_display)?
         );
         return Ok(0);
     }
-    println!(
+    out!(
         "{:<10} {:>5} {:>8} {:>4}  {:<34} movements",
-        "hand", "bones", "capsules", "dofs", "fingers"
+        "hand",
+        "bones",
+        "capsules",
+        "dofs",
+        "fingers"
     );
     for s in &summaries {
-        println!(
+        out!(
             "{:<10} {:>5} {:>8} {:>4}  {:<34} {}",
             s.name,
             s.bones,
@@ -93,7 +97,7 @@ pub fn run(args: &HandsArgs) -> Result<i32, CliError> {
                 .iter()
                 .map(|[a, b]| format!("[{a:.0}°, {b:.0}°]"))
                 .collect();
-            println!("  {:<22} {:<9} {}", j.bone, j.kind, limits.join(" "));
+            out!("  {:<22} {:<9} {}", j.bone, j.kind, limits.join(" "));
         }
     }
     Ok(0)

@@ -70,7 +70,7 @@ pub fn run(args: &SimulateArgs) -> Result<i32, CliError> {
         let force = case
             .mean_contact_force_n
             .map_or(String::new(), |f| format!(", contact force {f:.2} N"));
-        println!(
+        out!(
             "{}: finite {}{held}{slip}{force}, penetration {:.2} mm, {:.1}× real time",
             case.label,
             case.finite,
@@ -78,13 +78,13 @@ pub fn run(args: &SimulateArgs) -> Result<i32, CliError> {
             case.realtime_factor
         );
         for (name, value) in &case.metrics {
-            println!("    {name} = {value:.4}");
+            out!("    {name} = {value:.4}");
         }
         if let Some(d) = &case.diverged {
-            println!("    stopped: {d}");
+            out!("    stopped: {d}");
         }
     }
-    println!("wrote {}", args.out.display());
+    out!("wrote {}", args.out.display());
     if let Some(path) = &args.glb {
         let object = recording
             .object
@@ -96,7 +96,7 @@ pub fn run(args: &SimulateArgs) -> Result<i32, CliError> {
             .map(|(hand, frames)| (hand, &frames[..]))
             .collect();
         write(path, &prehensile_formats::simulation_glb(object, &hands))?;
-        println!("wrote {}", path.display());
+        out!("wrote {}", path.display());
     }
     if let (Some(path), Some((hand, frames))) = (&args.bvh, recording.hands.first()) {
         let fps = options.settings.record_fps;
@@ -104,7 +104,7 @@ pub fn run(args: &SimulateArgs) -> Result<i32, CliError> {
             path,
             prehensile_formats::write_bvh(hand, frames, fps).as_bytes(),
         )?;
-        println!("wrote {}", path.display());
+        out!("wrote {}", path.display());
     }
     Ok(if report.finite { 0 } else { 1 })
 }

@@ -503,6 +503,14 @@ fn check_params(p: &SearchParams, shoulder: &Point3) -> Result<(), SearchError> 
     if !shoulder.iter().all(|c| c.is_finite()) {
         return bad("the shoulder position is not finite");
     }
+    if shoulder
+        .iter()
+        .any(|c| c.abs() > crate::mesh::MAX_COORDINATE)
+    {
+        return bad(
+            "the shoulder lies more than 1000 km from the origin; check its units (metres)",
+        );
+    }
     if !(p.max_angle.is_finite() && p.max_angle > 0.0) {
         return bad("the largest step angle must be a positive number of radians");
     }

@@ -1,0 +1,178 @@
+//! Inputs that used to panic, hang or read outside their folder (issue 14): each now ends with
+//! exit code 2 and a message, within a few seconds. Named after what broke.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// Exit code, stdout and stderr of a run, killed (and failed) after 60 s.
+fn run(args: &[&str], stdout: Stdio) -> (Option<i32>, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_prehensile"))
+        .args(args)
+        .stdout(stdout)
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let began = Instant::now();
+    loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            let mut err = String::new();
+            std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
+            assert!(!err.contains("panicked"), "{args:?} panicked:\n{err}");
+            return (status.code(), err);
+        }
+        if began.elapsed() > Duration::from_secs(60) {
+            child.kill().unwrap();
+            panic!("{args:?} hung");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+fn refused(args: &[&str], says: &str) {
+    let (code, err) = run(args, Stdio::null());
+    assert_eq!(code, Some(2), "{args:?}: {err}");
+    assert!(err.contains(says), "{args:?}: expected '{says}' in:\n{err}");
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("prehensile-hostile-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+#[test]
+fn a_full_or_closed_stdout_ends_with_a_message_not_a_panic() {
+    let full = std::fs::File::create("/dev/full").unwrap();
+    let (code, err) = run(&["hands"], Stdio::from(full));
+    assert_eq!(code, Some(2));
+    assert!(err.contains("cannot write to standard output"), "{err}");
+    // `prehensile hands | head -1`: the reader goes away.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_prehensile"))
+        .args([
+            "hands",
+            "--file",
+            "../../assets/hands/shadow_hand/reach.xml",
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("panicked"));
+}
+
+#[test]
+fn a_fifo_or_a_device_is_not_read() {
+    let fifo = scratch("pipe.stl");
+    let _ = std::fs::remove_file(&fifo);
+    assert!(Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    refused(&["check", s(&fifo)], "not a regular file");
+    refused(&["grasp", "--object", s(&fifo)], "not a regular file");
+    let dev = scratch("zero.obj");
+    let _ = std::fs::remove_file(&dev);
+    std::os::unix::fs::symlink("/dev/zero", &dev).unwrap();
+    refused(&["check", s(&dev)], "not a regular file");
+}
+
+#[test]
+fn gltf_buffers_outside_the_files_folder_are_refused() {
+    let dir = scratch("gltf/inner");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.parent().unwrap().join("secret.bin"), [0u8; 64]).unwrap();
+    for uri in [
+        "../secret.bin",
+        "/etc/passwd",
+        "%2E%2E/secret.bin",
+        "file:///etc/passwd",
+    ] {
+        let gltf = dir.join("scan.gltf");
+        std::fs::write(
+            &gltf,
+            format!(
+                r#"{{"asset":{{"version":"2.0"}},"buffers":[{{"uri":"{uri}","byteLength":36}}]}}"#
+            ),
+        )
+        .unwrap();
+        refused(&["check", s(&gltf)], "own folder");
+    }
+}
+
+#[test]
+fn mjcf_includes_stay_in_the_folder_and_comments_are_not_followed() {
+    let dir = scratch("mjcf");
+    std::fs::create_dir_all(&dir).unwrap();
+    let hand = dir.join("hand.xml");
+    std::fs::write(
+        &hand,
+        r#"<mujoco><include file="../../../etc/passwd"/></mujoco>"#,
+    )
+    .unwrap();
+    refused(&["hands", "--file", s(&hand)], "own folder");
+    // An include inside a comment is a comment: the reader does not try to open it (and then
+    // fails for this file's own reason, not the include's).
+    std::fs::write(
+        &hand,
+        r#"<mujoco><!-- <include file="/etc/passwd"/> --><worldbody/></mujoco>"#,
+    )
+    .unwrap();
+    let (code, err) = run(&["hands", "--file", s(&hand)], Stdio::null());
+    assert_eq!(code, Some(2));
+    assert!(!err.contains("passwd"), "{err}");
+    // A fan-out of includes (each file including the next one ten times) is bounded.
+    for level in 0..6 {
+        let next = if level == 5 {
+            "<worldbody/>".to_string()
+        } else {
+            format!(r#"<include file="l{}.xml"/>"#, level + 1).repeat(10)
+        };
+        std::fs::write(
+            dir.join(format!("l{level}.xml")),
+            format!("<mujoco>{next}</mujoco>"),
+        )
+        .unwrap();
+    }
+    refused(
+        &["hands", "--file", s(&dir.join("l0.xml"))],
+        "included files",
+    );
+}
+
+#[test]
+fn absurd_numbers_are_refused_with_the_reason() {
+    refused(&["grasp", "--scale", "1e300"], "--scale");
+    refused(&["grasp", "--scale", "1e-300"], "--scale");
+    refused(&["grasp", "--budget-ms", "1e300"], "at most");
+    refused(&["grasp", "--shoulder=1e200,0,0"], "shoulder");
+    refused(
+        &["simulate", "--scenario", "drop", "--dt", "1e-9"],
+        "too small",
+    );
+    refused(&["grasp", "--hand", "hand.stl"], "hand");
+}
+
+#[test]
+fn negative_coordinates_need_no_equals_sign() {
+    let (code, err) = run(
+        &[
+            "grasp",
+            "--movement",
+            "power",
+            "--shoulder",
+            "-0.35,-0.2,0.35",
+            "--budget-ms",
+            "50",
+        ],
+        Stdio::null(),
+    );
+    assert!(matches!(code, Some(0 | 1)), "{err}");
+}
