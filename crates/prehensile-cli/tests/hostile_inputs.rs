@@ -176,3 +176,99 @@ fn negative_coordinates_need_no_equals_sign() {
     );
     assert!(matches!(code, Some(0 | 1)), "{err}");
 }
+
+/// A GLB file of `json` and the binary chunk `bin`.
+fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
+    let mut json = json.as_bytes().to_vec();
+    while json.len() % 4 != 0 {
+        json.push(b' ');
+    }
+    let mut bin = bin.to_vec();
+    while bin.len() % 4 != 0 {
+        bin.push(0);
+    }
+    let total = 12 + 8 + json.len() + 8 + bin.len();
+    let mut out = Vec::new();
+    out.extend(b"glTF");
+    out.extend(2u32.to_le_bytes());
+    out.extend((total as u32).to_le_bytes());
+    out.extend((json.len() as u32).to_le_bytes());
+    out.extend(b"JSON");
+    out.extend(json);
+    out.extend((bin.len() as u32).to_le_bytes());
+    out.extend(b"BIN\0");
+    out.extend(bin);
+    out
+}
+
+/// A triangle's three positions (36 bytes) then three u32 indices (12 bytes).
+fn triangle_bin() -> Vec<u8> {
+    let mut bin = Vec::new();
+    for v in [[0f32, 0.0, 0.0], [0.05, 0.0, 0.0], [0.0, 0.05, 0.0]] {
+        for c in v {
+            bin.extend(c.to_le_bytes());
+        }
+    }
+    for i in [0u32, 1, 2] {
+        bin.extend(i.to_le_bytes());
+    }
+    bin
+}
+
+fn triangle_gltf(index_type: u32, position_stride: &str, nodes: &str) -> String {
+    format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":{nodes},
+        "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},"indices":1}}]}}],
+        "buffers":[{{"byteLength":48}}],
+        "bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":36{position_stride}}},{{"buffer":0,"byteOffset":36,"byteLength":12}}],
+        "accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[0.05,0.05,0]}},
+                     {{"bufferView":1,"componentType":{index_type},"count":3,"type":"SCALAR"}}]}}"#
+    )
+}
+
+#[test]
+fn crafted_gltf_accessors_are_refused_before_the_reader_sees_them() {
+    let file = scratch("crafted.glb");
+    // The control: well-formed, read (and then refused as an open mesh, exit 2 too).
+    std::fs::write(
+        &file,
+        glb(&triangle_gltf(5125, "", r#"[{"mesh":0}]"#), &triangle_bin()),
+    )
+    .unwrap();
+    refused(&["check", s(&file), "--json"], "");
+    // An index accessor of FLOAT (5126) used to panic inside the gltf crate.
+    std::fs::write(
+        &file,
+        glb(&triangle_gltf(5126, "", r#"[{"mesh":0}]"#), &triangle_bin()),
+    )
+    .unwrap();
+    refused(
+        &["check", s(&file)],
+        "accessor 1 (indices) is Scalar of F32",
+    );
+    // A POSITION stride of 4 bytes, shorter than one 12-byte element, too.
+    std::fs::write(
+        &file,
+        glb(
+            &triangle_gltf(5125, r#","byteStride":4"#, r#"[{"mesh":0}]"#),
+            &triangle_bin(),
+        ),
+    )
+    .unwrap();
+    refused(&["check", s(&file)], "stride of 4 bytes");
+    // A node that lists itself 1000 times used to allocate gigabytes.
+    let children = vec!["0"; 1000].join(",");
+    std::fs::write(
+        &file,
+        glb(
+            &triangle_gltf(
+                5125,
+                "",
+                &format!(r#"[{{"mesh":0,"children":[{children}]}}]"#),
+            ),
+            &triangle_bin(),
+        ),
+    )
+    .unwrap();
+    refused(&["check", s(&file)], "must be trees");
+}

@@ -81,6 +81,30 @@ pub fn load_hand_gltf_skinned(path: &Path) -> Result<(HandModel, SkinnedMesh), F
         )
     })?;
     let joints: Vec<gltf::Node> = skin.joints().collect();
+    // Only the GLB's binary chunk is read: every accessor must lie in it.
+    let slices: Vec<&[u8]> = if blob.is_empty() {
+        vec![]
+    } else {
+        vec![&blob[..]]
+    };
+    if let Some(a) = skin.inverse_bind_matrices() {
+        crate::gltf_accessors::check_accessor(
+            &a,
+            "inverse bind matrices",
+            &[(
+                gltf::accessor::Dimensions::Mat4,
+                gltf::accessor::DataType::F32,
+            )],
+            &slices,
+        )
+        .map_err(|e| FormatError::new(&name, e))?;
+    }
+    for mesh in gltf.document.meshes() {
+        for primitive in mesh.primitives() {
+            crate::gltf_accessors::check_primitive(&primitive, true, &slices)
+                .map_err(|e| FormatError::new(&name, e))?;
+        }
+    }
     let inverse_bind: Vec<[[f32; 4]; 4]> = skin
         .reader(buffer)
         .read_inverse_bind_matrices()

@@ -9,6 +9,7 @@ mod bvh;
 mod error;
 mod file_access;
 mod glb;
+mod gltf_accessors;
 mod hand_gltf;
 mod hand_import;
 mod hand_mjcf;

@@ -53,21 +53,14 @@ pub fn read_gltf_triangles(path: &Path) -> Result<(Vec<Point3>, Vec<[usize; 3]>)
         .ok_or_else(|| FormatError::new(&name, "the file has no scene"))?;
     let mut vertices = Vec::new();
     let mut triangles = Vec::new();
-    let mut stack: Vec<(gltf::Node, nalgebra::Matrix4<f64>)> = scene
-        .nodes()
-        .map(|n| (n, nalgebra::Matrix4::identity()))
-        .collect();
-    let mut visited = 0usize;
-    while let Some((node, parent)) = stack.pop() {
-        visited += 1;
-        if visited > 1_000_000 {
-            return Err(FormatError::new(
-                &name,
-                "the node hierarchy is too large or cyclic",
-            ));
-        }
+    let slices: Vec<&[u8]> = buffers.iter().map(|b| &b[..]).collect();
+    let nodes = crate::gltf_accessors::scene_nodes(&scene, doc.nodes().len())
+        .map_err(|e| FormatError::new(&name, e))?;
+    let mut worlds = vec![nalgebra::Matrix4::<f64>::identity(); doc.nodes().len()];
+    for (node, parent) in nodes {
         let local = nalgebra::Matrix4::from_fn(|r, c| node.transform().matrix()[c][r] as f64);
-        let world = parent * local;
+        let world = parent.map_or(nalgebra::Matrix4::identity(), |p| worlds[p]) * local;
+        worlds[node.index()] = world;
         if let Some(mesh) = node.mesh() {
             for (pi, primitive) in mesh.primitives().enumerate() {
                 let at = format!("mesh '{}' primitive {pi}", mesh.name().unwrap_or("?"));
@@ -81,6 +74,8 @@ pub fn read_gltf_triangles(path: &Path) -> Result<(Vec<Point3>, Vec<[usize; 3]>)
                         ),
                     ));
                 }
+                crate::gltf_accessors::check_primitive(&primitive, false, &slices)
+                    .map_err(|e| FormatError::at(&name, &at, e))?;
                 let reader = primitive.reader(|b| buffers.get(b.index()).map(|d| &d[..]));
                 let positions = reader
                     .read_positions()
@@ -118,7 +113,6 @@ pub fn read_gltf_triangles(path: &Path) -> Result<(Vec<Point3>, Vec<[usize; 3]>)
                 }
             }
         }
-        stack.extend(node.children().map(|c| (c, world)));
     }
     if triangles.is_empty() {
         return Err(FormatError::new(&name, "the scene has no triangles"));
