@@ -17,9 +17,17 @@ A hull that Qhull cannot build because the wrenches are flat counts as no force 
 Cases: hand-made grasps (pinch, tripod, flat palm, wrap around a cylinder) and random contact
 sets on spheres, boxes and cylinders with random mu, edges and patch.
 
+Further cases come from grasp results given after the output file (`prehensile grasp --out R.json`):
+their contacts, friction, centre of mass and torque scale, with the default cone (8 edges, patch
+0.5). The committed file includes the Shadow hand's power grasp of the mug (170 wrenches), on
+which the first hull, without joggling, was not convex.
+
 Run from the repository root:
     pip install scipy numpy
-    python3 tools/oracle/stability_oracle.py crates/prehensile-core/tests/data/stability_oracle.json
+    ./target/release/prehensile grasp --hand assets/hands/shadow_hand/reach.xml --object mug \
+        --movement power --out /tmp/shadow-mug.json
+    python3 tools/oracle/stability_oracle.py crates/prehensile-core/tests/data/stability_oracle.json \
+        /tmp/shadow-mug.json
 """
 import json
 import sys
@@ -125,7 +133,27 @@ def random_cases(rng, count):
     return cases
 
 
-def main(out):
+def from_results(paths):
+    cases = []
+    for path in paths:
+        r = json.load(open(path))
+        cs = [{"point": c["point"], "normal": c["normal"], "radius": c["radius"]} for c in r["contacts"]]
+        cases.append((f"{r['hand']} {r['movement']} grasp of {r['object']}", cs, r["friction"],
+                      np.array(r["center_of_mass"]), r["stability"]["torque_scale"]))
+    return cases
+
+
+def record(name, cs, mu, edges, patch, center, scale):
+    w = wrenches(cs, mu, edges, patch, center, scale)
+    fc, eps, loads = measures(w)
+    return {
+        "name": name, "contacts": cs, "friction": mu, "cone_edges": edges,
+        "torsion_patch": patch, "center": list(map(float, center)), "scale": scale,
+        "force_closure": fc, "epsilon": eps, "load_ratio": loads,
+    }
+
+
+def main(out, results):
     rng = np.random.default_rng(2015)
     cases = []
     for name, cs in handmade() + random_cases(rng, 40):
@@ -133,13 +161,9 @@ def main(out):
             center = rng.uniform(-0.005, 0.005, size=3)
             pts = np.array([c["point"] for c in cs])
             scale = float(np.max(np.linalg.norm(pts - center, axis=1)))
-            w = wrenches(cs, mu, edges, patch, center, scale)
-            fc, eps, loads = measures(w)
-            cases.append({
-                "name": name, "contacts": cs, "friction": mu, "cone_edges": edges,
-                "torsion_patch": patch, "center": list(map(float, center)), "scale": scale,
-                "force_closure": fc, "epsilon": eps, "load_ratio": loads,
-            })
+            cases.append(record(name, cs, mu, edges, patch, center, scale))
+    for name, cs, mu, center, scale in from_results(results):
+        cases.append(record(name, cs, mu, 8, 0.5, center, scale))
     closed = sum(c["force_closure"] for c in cases)
     with open(out, "w") as f:
         json.dump({"source": "tools/oracle/stability_oracle.py (scipy.spatial.ConvexHull, Qhull Qt)",
@@ -148,4 +172,4 @@ def main(out):
 
 
 if __name__ == "__main__":
-    main(sys.argv[1])
+    main(sys.argv[1], sys.argv[2:])

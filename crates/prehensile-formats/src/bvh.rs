@@ -143,6 +143,16 @@ pub struct BvhMotion {
     pub frames: Vec<Vec<f64>>,
 }
 
+/// The channels a BVH joint may have.
+const CHANNELS: [&str; 6] = [
+    "Xposition",
+    "Yposition",
+    "Zposition",
+    "Xrotation",
+    "Yrotation",
+    "Zrotation",
+];
+
 /// Most frames or channels accepted, to bound memory on absurd headers.
 const MAX_VALUES: usize = 50_000_000;
 
@@ -193,6 +203,15 @@ pub fn parse_bvh(text: &str, source: &str) -> Result<BvhMotion, FormatError> {
                 let joint = joints
                     .last_mut()
                     .ok_or_else(|| err(n, "CHANNELS before any joint".into()))?;
+                if let Some(bad) = names.iter().find(|c| !CHANNELS.contains(c)) {
+                    return Err(err(
+                        n,
+                        format!(
+                            "unknown channel '{bad}'; BVH channels are {}",
+                            CHANNELS.join(", ")
+                        ),
+                    ));
+                }
                 joint.channels = names.iter().map(|s| s.to_string()).collect();
             }
             ["MOTION"] => {
@@ -255,6 +274,16 @@ pub fn parse_bvh(text: &str, source: &str) -> Result<BvhMotion, FormatError> {
             ));
         }
         frames.push(values);
+    }
+    // More frame lines than the header promises: as wrong as fewer (blank lines at the end are
+    // allowed).
+    if let Some((n, _)) = lines.find(|(_, l)| !l.trim().is_empty()) {
+        return Err(err(
+            n,
+            format!(
+                "the header promises {count} frames, but more frame lines follow; fix 'Frames:'"
+            ),
+        ));
     }
     if frames.len() != count {
         return Err(FormatError::new(

@@ -15,7 +15,7 @@ enum Encoding {
     Big,
 }
 
-#[derive(Clone, Copy)]
+#[derive(Debug, Clone, Copy)]
 enum Scalar {
     I8,
     U8,
@@ -96,6 +96,13 @@ impl Body<'_> {
                 return Err(self.err("the file ends before all elements declared in the header"));
             }
             let word = std::str::from_utf8(&self.bytes[start..self.pos]).unwrap_or("?");
+            // Integer properties are read as integers: "0.9" or "nan" as an index is an error,
+            // not vertex 0.
+            if !matches!(s, Scalar::F32 | Scalar::F64) {
+                return word.parse::<i64>().map(|v| v as f64).map_err(|_| {
+                    self.err(&format!("'{word}' is not a whole number ({s:?} property)"))
+                });
+            }
             return word
                 .parse()
                 .map_err(|_| self.err(&format!("'{word}' is not a number")));
@@ -255,7 +262,7 @@ pub fn parse_ply(
                     }
                     Property::List(name, c, t) => {
                         let len = body.read(*c)?;
-                        if !(0.0..=1024.0).contains(&len) {
+                        if !(0.0..=1024.0).contains(&len) || len.fract() != 0.0 {
                             return Err(
                                 body.err(&format!("a list of {len} entries is not plausible"))
                             );
@@ -283,7 +290,7 @@ pub fn parse_ply(
                 let idx: Vec<usize> = face
                     .iter()
                     .map(|&v| {
-                        if v < 0.0 || v >= vertices.len() as f64 {
+                        if !(v >= 0.0 && v < vertices.len() as f64 && v.fract() == 0.0) {
                             Err(body.err(&format!(
                                 "face refers to vertex {v}, but there are {} vertices",
                                 vertices.len()
@@ -310,6 +317,20 @@ mod tests {
     use super::*;
 
     const ASCII: &str = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+
+    #[test]
+    fn fractional_or_nan_indices_are_errors_not_vertex_zero() {
+        for bad in ["3 0.9 1 2", "3 nan 1 2", "3 0 1 2.5", "2.5 0 1 2"] {
+            let text = ASCII.replace("3 0 1 2", bad);
+            let e = parse_ply(text.as_bytes(), "bad.ply").unwrap_err();
+            assert!(e.reason.contains("whole number"), "{bad}: {e}");
+        }
+        // Float index lists (allowed by the format) must still hold whole numbers.
+        let text = ASCII
+            .replace("list uchar int", "list uchar float")
+            .replace("3 0 1 2", "3 0 1 2.5");
+        assert!(parse_ply(text.as_bytes(), "f.ply").is_err());
+    }
 
     #[test]
     fn ascii_and_binary_agree() {

@@ -58,6 +58,12 @@ fn bad_bvh_is_named() {
     assert!(e.reason.contains("promises 9"), "{e}");
     let e = parse_bvh(&text.replace("CHANNELS 3", "CHANNELS 4"), "m.bvh").unwrap_err();
     assert!(e.location.is_some() && e.reason.contains("lists 3"), "{e}");
+    // Fewer frames promised than given: the extra lines used to be dropped silently.
+    let e = parse_bvh(&text.replace("Frames: 5", "Frames: 2"), "m.bvh").unwrap_err();
+    assert!(e.reason.contains("more frame lines follow"), "{e}");
+    // An unknown channel used to be ignored.
+    let e = parse_bvh(&text.replacen("Zrotation", "Wrotation", 1), "m.bvh").unwrap_err();
+    assert!(e.reason.contains("unknown channel 'Wrotation'"), "{e}");
     let e = parse_bvh(&text.replace("Frames: 5", "Frames: 99999999999"), "m.bvh").unwrap_err();
     assert!(e.reason.contains("more than"), "{e}");
     let other = builtin_hand("human").unwrap();

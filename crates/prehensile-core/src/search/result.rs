@@ -77,6 +77,8 @@ pub struct ContactRecord {
     pub normal: [f64; 3],
     /// Gap between capsule and surface, metres (negative: it enters the object).
     pub gap: f64,
+    /// Radius of the touching capsule (its soft pad's torsion scales with it), metres.
+    pub radius: f64,
 }
 
 /// One joint degree of freedom.
@@ -127,6 +129,8 @@ pub struct GraspResult {
     pub joints: Vec<JointRecord>,
     /// Every capsule.
     pub capsules: Vec<CapsuleRecord>,
+    /// The object's centre of mass, about which `stability` takes torques.
+    pub center_of_mass: [f64; 3],
     /// Friction coefficient of the contact model.
     pub friction: f64,
     /// Every contact, with its normal.
@@ -211,6 +215,7 @@ impl GraspResult {
                 .collect(),
             joints: joint_records(hand, &ws.rotations),
             capsules,
+            center_of_mass: ctx.object.center_of_mass().into(),
             friction: ctx.contact_model.friction,
             contacts: ws
                 .contacts
@@ -221,6 +226,7 @@ impl GraspResult {
                     point: c.point.into(),
                     normal: c.normal.into(),
                     gap: c.gap,
+                    radius: c.radius,
                 })
                 .collect(),
             stability,

@@ -7,10 +7,13 @@
 //! (`tools/oracle/stability_oracle.py`) to 1e-9 on 6-D wrench sets.
 //!
 //! Each point is added in turn: the facets it sees are removed and every ridge on the border of
-//! the removed set (the horizon) is joined to the point. A facet's hyperplane is recomputed from
-//! its vertices, and points within a tolerance of a facet count as not seen, so nearly coplanar
-//! input (a friction cone's edges) yields a hull that is exact to that tolerance. Buffers are
-//! kept between calls: a warm hull allocates only when it grows larger than before.
+//! the removed set (the horizon) is joined to the point. Wrench sets are full of coplanar points
+//! (a friction cone's edges), where rounding can make a point "see" a set of facets with holes and
+//! leave a hull that is not convex; so, as Qhull's `QJ` option does, the input is first joggled
+//! by 1e-10 of its size (deterministically, far above the 1e-13 within which a point counts as
+//! on a facet), and the result is checked (closed, every point inside every facet) and rebuilt
+//! with a ten times larger joggle if it fails. Buffers are kept
+//! between calls: a warm hull allocates only when it grows larger than before.
 
 /// One facet: `D` vertices (indices into the input, sorted), the unit outward normal and the
 /// offset, so that every point `x` of the hull has `normal · x <= offset`.
@@ -47,7 +50,13 @@ pub enum HullError {
     /// A coordinate is NaN or infinite.
     #[error("a point has a coordinate that is not finite")]
     NotFinite,
+    /// Rounding defeated the construction even with the input joggled.
+    #[error("the hull could not be built reliably in floating point")]
+    Numerical,
 }
+
+/// Attempts with a joggle ten times larger each (1e-10 to 1e-7 of the input's size).
+const JOGGLE_ATTEMPTS: usize = 4;
 
 /// A convex hull with its buffers, reusable across calls.
 #[derive(Debug, Clone, Default)]
@@ -57,6 +66,7 @@ pub struct ConvexHull<const D: usize> {
     ridges: Vec<([u32; D], usize)>,
     order: Vec<u32>,
     interior: Vec<f64>,
+    joggled: Vec<[f64; D]>,
 }
 
 impl<const D: usize> ConvexHull<D> {
@@ -68,6 +78,7 @@ impl<const D: usize> ConvexHull<D> {
             ridges: Vec::new(),
             order: Vec::new(),
             interior: vec![0.0; D],
+            joggled: Vec::new(),
         }
     }
 
@@ -98,9 +109,68 @@ impl<const D: usize> ConvexHull<D> {
             .flatten()
             .fold(0.0f64, |m, c| m.max(c.abs()))
             .max(f64::MIN_POSITIVE);
-        let span_tolerance = 1e-9 * scale;
-        let see_tolerance = 1e-11 * scale;
+        // Flat input is flat before any joggle.
+        initial_simplex(points, 1e-9 * scale)?;
+        let mut rng = crate::search::random::SplitMix64::new(0x6a09e667);
+        for attempt in 0..JOGGLE_ATTEMPTS {
+            let joggle = scale * 1e-10 * 10f64.powi(attempt as i32);
+            let mut joggled = std::mem::take(&mut self.joggled);
+            joggled.clear();
+            joggled.extend(
+                points
+                    .iter()
+                    .map(|p| std::array::from_fn(|k| p[k] + rng.uniform(-joggle, joggle))),
+            );
+            let built = self.build(&joggled, scale);
+            let tolerance = 1e-9 * scale + 4.0 * joggle;
+            let sound = built.is_ok() && self.is_sound(&joggled, tolerance);
+            self.joggled = joggled;
+            if sound {
+                return Ok(());
+            }
+        }
+        self.facets.clear();
+        Err(HullError::Numerical)
+    }
 
+    /// Every ridge shared by exactly two facets, and every point inside every facet.
+    fn is_sound(&mut self, points: &[[f64; D]], tolerance: f64) -> bool {
+        self.ridges.clear();
+        for (k, f) in self.facets.iter().enumerate() {
+            for skip in 0..D {
+                let mut ridge = [u32::MAX; D];
+                let mut n = 0;
+                for (j, &v) in f.vertices.iter().enumerate() {
+                    if j != skip {
+                        ridge[n] = v;
+                        n += 1;
+                    }
+                }
+                self.ridges.push((ridge, k));
+            }
+        }
+        self.ridges.sort_unstable_by_key(|r| r.0);
+        let closed = self
+            .ridges
+            .chunks(2)
+            .all(|pair| pair.len() == 2 && pair[0].0 == pair[1].0)
+            && self
+                .ridges
+                .windows(3)
+                .all(|w| !(w[0].0 == w[1].0 && w[1].0 == w[2].0));
+        closed
+            && self.facets.iter().all(|f| {
+                points
+                    .iter()
+                    .all(|p| dot(&f.normal, p) <= f.offset + tolerance)
+            })
+    }
+
+    /// Beneath–beyond over `points` (already joggled into general position).
+    fn build(&mut self, points: &[[f64; D]], scale: f64) -> Result<(), HullError> {
+        self.facets.clear();
+        let span_tolerance = 1e-9 * scale;
+        let see_tolerance = 1e-13 * scale;
         let simplex = initial_simplex(points, span_tolerance)?;
         self.interior.clear();
         self.interior.resize(D, 0.0);
@@ -315,7 +385,8 @@ mod tests {
         // Twelve triangles, each on a face of the cube.
         assert_eq!(hull.facets().len(), 12);
         for f in hull.facets() {
-            assert!((f.offset - 1.0).abs() < 1e-12);
+            // Exact to the joggle (1e-10 of the size).
+            assert!((f.offset - 1.0).abs() < 1e-8);
             assert!(f.vertices.iter().all(|&v| v < 8));
         }
     }
