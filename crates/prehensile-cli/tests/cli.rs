@@ -451,3 +451,52 @@ fn grasp_hold_tests_the_grasp_in_six_directions() {
     assert_eq!(r["hold"]["held"].as_u64().unwrap() as usize, held);
     assert!(held >= 4, "{}", r["hold"]);
 }
+
+#[test]
+fn a_scan_with_collapsed_and_cancelling_triangles_is_repaired_exactly_and_grasped() {
+    // A 6 cm cube as a scan may have it: one collapsed triangle (a vertex repeated) and a pair of
+    // coincident triangles wound opposite ways. Both used to make `check` report "inconsistent
+    // winding at vertices 5-5" and `grasp` refuse the mesh.
+    let mut obj = String::new();
+    for i in 0..8 {
+        let c = |bit: i32| if i & bit == 0 { -0.03 } else { 0.03 };
+        obj += &format!("v {} {} {}\n", c(1), c(2), c(4));
+    }
+    obj += "v 0.01 -0.03 0.0\n";
+    for f in [
+        [1, 3, 4, 2],
+        [5, 6, 8, 7],
+        [1, 2, 6, 5],
+        [3, 7, 8, 4],
+        [1, 5, 7, 3],
+        [2, 4, 8, 6],
+    ] {
+        obj += &format!(
+            "f {} {} {}\nf {} {} {}\n",
+            f[0], f[1], f[2], f[0], f[2], f[3]
+        );
+    }
+    obj += "f 1 1 2\nf 1 2 9\nf 2 1 9\n";
+    let path = scratch("scan.obj");
+    std::fs::write(&path, obj).unwrap();
+    let out = prehensile(&["check", path.to_str().unwrap()]);
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    assert!(err.contains("dropped 1 collapsed triangle"), "{err}");
+    assert!(
+        err.contains("dropped 1 pair(s) of coincident triangles"),
+        "{err}"
+    );
+    assert!(err.contains("accepts this mesh after the repairs"), "{err}");
+    assert!(!err.contains("5–5") && !err.contains("0–0"), "{err}");
+    let out = prehensile(&[
+        "grasp",
+        "--object",
+        path.to_str().unwrap(),
+        "--movement",
+        "power",
+        "--budget-ms",
+        "300",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+}

@@ -278,6 +278,62 @@ impl TriangleMesh {
             .collect()
     }
 
+    /// Drops triangles that contribute nothing to the surface, so the shape is exactly the same:
+    /// collapsed triangles (a vertex repeated) and pairs of coincident triangles wound opposite
+    /// ways (they cancel; scans have them as slivers of a fraction of a square millimetre).
+    /// Returns the mesh and how many of each were dropped.
+    pub fn drop_cancelling_triangles(&self) -> (Self, usize, usize) {
+        let mut dead = vec![false; self.triangles.len()];
+        let mut collapsed = 0;
+        // Each triangle under its sorted vertex set, with its winding's parity.
+        let mut by_set: HashMap<[u32; 3], Vec<(usize, bool)>> = HashMap::new();
+        for (t, tri) in self.triangles.iter().enumerate() {
+            let [a, b, c] = *tri;
+            if a == b || b == c || c == a {
+                dead[t] = true;
+                collapsed += 1;
+                continue;
+            }
+            let mut key = *tri;
+            key.sort_unstable();
+            // Even permutations of the sorted order keep the winding.
+            let rotation = [[a, b, c], [b, c, a], [c, a, b]];
+            let even = rotation.contains(&key);
+            by_set.entry(key).or_default().push((t, even));
+        }
+        let mut pairs = 0;
+        let mut keys: Vec<_> = by_set.into_iter().collect();
+        keys.sort_unstable_by_key(|(k, _)| *k);
+        for (_, mut list) in keys {
+            list.sort_unstable();
+            loop {
+                let up = list.iter().position(|&(t, even)| even && !dead[t]);
+                let down = list.iter().position(|&(t, even)| !even && !dead[t]);
+                let (Some(u), Some(d)) = (up, down) else {
+                    break;
+                };
+                dead[list[u].0] = true;
+                dead[list[d].0] = true;
+                pairs += 1;
+            }
+        }
+        let triangles = self
+            .triangles
+            .iter()
+            .zip(&dead)
+            .filter(|(_, d)| !**d)
+            .map(|(t, _)| *t)
+            .collect();
+        (
+            Self {
+                vertices: self.vertices.clone(),
+                triangles,
+            },
+            collapsed,
+            pairs,
+        )
+    }
+
     /// Removes zero-area triangles without changing the shape: a triangle with a repeated vertex
     /// is dropped (its two neighbours then share the edge); a sliver whose middle vertex lies on
     /// its longest edge is dropped and the neighbour across that edge is split at the middle
@@ -362,6 +418,11 @@ impl TriangleMesh {
         for tri in &self.triangles {
             for k in 0..3 {
                 let (u, v) = (tri[k], tri[(k + 1) % 3]);
+                // A collapsed triangle's edge from a vertex to itself is no edge (the triangle is
+                // reported as degenerate).
+                if u == v {
+                    continue;
+                }
                 let key = (u.min(v), u.max(v));
                 let e = edges.entry(key).or_insert((0, 0));
                 if u < v {
@@ -553,6 +614,33 @@ mod tests {
         let r2 = fixed.report();
         assert!(r2.defects.is_empty(), "{:?}", r2.defects);
         assert!((r2.volume - r.volume).abs() < 1e-12);
+    }
+
+    #[test]
+    fn collapsed_triangles_and_cancelling_pairs_are_dropped_exactly() {
+        // The tetrahedron with, as a scan has them, a collapsed triangle and a coincident pair
+        // wound opposite ways.
+        let (mut p, mut t) = tetra();
+        p.push(Point3::new(0.3, 0.3, 0.0));
+        let extra = p.len() - 1;
+        t.push([0, 0, 1]);
+        t.push([0, 1, extra]);
+        t.push([1, 0, extra]);
+        let mesh = TriangleMesh::weld(&p, &t).unwrap();
+        assert!(!mesh.report().defects.is_empty());
+        let (fixed, collapsed, pairs) = mesh.drop_cancelling_triangles();
+        assert_eq!((collapsed, pairs), (1, 1));
+        let clean = TriangleMesh::weld(&tetra().0, &tetra().1).unwrap();
+        assert_eq!(fixed.triangles, clean.triangles);
+        assert!(fixed.report().defects.is_empty());
+        // Two copies wound the same way do not cancel.
+        let (mut p, mut t) = tetra();
+        t.push(t[0]);
+        p.push(Point3::origin());
+        let (_, _, pairs) = TriangleMesh::weld(&p, &t)
+            .unwrap()
+            .drop_cancelling_triangles();
+        assert_eq!(pairs, 0);
     }
 
     #[test]

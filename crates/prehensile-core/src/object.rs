@@ -71,9 +71,19 @@ impl ObjectModel {
         mesh: TriangleMesh,
         hooks: Option<Vec<Point3>>,
     ) -> Result<Self, ObjectError> {
-        let mut report = mesh.report();
-        let mut mesh = mesh;
+        let (mut mesh, collapsed, pairs) = mesh.drop_cancelling_triangles();
         let mut repairs = Vec::new();
+        if collapsed > 0 {
+            repairs.push(format!(
+                "dropped {collapsed} collapsed triangle(s) (a vertex repeated); the shape is unchanged"
+            ));
+        }
+        if pairs > 0 {
+            repairs.push(format!(
+                "dropped {pairs} pair(s) of coincident triangles wound opposite ways (they cancel); the shape is unchanged"
+            ));
+        }
+        let mut report = mesh.report();
         let only_slivers = report.degenerate_triangles > 0
             && report.boundary_edges + report.non_manifold_edges + report.inconsistent_edges == 0;
         if only_slivers {
