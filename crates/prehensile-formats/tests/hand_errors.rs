@@ -161,3 +161,55 @@ fn the_human_hand_is_the_thesis_skeleton() {
     );
     assert_eq!(h.movement("precision").unwrap().contact_fingers(), &[0, 1]);
 }
+
+fn with_couplings(pairs: &[(&str, &str)]) -> String {
+    let mut text = CLAW.to_string();
+    for (follower, leader) in pairs {
+        text += &format!(
+            "\n[[couplings]]\nfollower = \"{follower}\"\nleader = \"{leader}\"\nratio = 0.5\n"
+        );
+    }
+    text
+}
+
+#[test]
+fn coupling_cycles_and_self_couplings_are_refused_not_violated() {
+    assert!(parse_hand_toml(&with_couplings(&[("a_tip", "a_base")]), "c.toml").is_ok());
+    let e = error_of(&with_couplings(&[("a_tip", "a_tip")]));
+    assert!(e.contains("coupled to itself"), "{e}");
+    let e = error_of(&with_couplings(&[("a_tip", "a_base"), ("a_base", "a_tip")]));
+    assert!(e.contains("cycle"), "{e}");
+    let e = error_of(&with_couplings(&[("a_tip", "a_base"), ("a_tip", "b_tip")]));
+    assert!(e.contains("two leaders"), "{e}");
+}
+
+#[test]
+fn absurd_sizes_are_refused_not_searched_forever() {
+    let e = error_of(&CLAW.replace("radius = 0.02", "radius = 1e300"));
+    assert!(e.contains("at most 2 m"), "{e}");
+    let e = error_of(&CLAW.replace(
+        "origin = [-0.02, 0.0, 0.10]",
+        "origin = [-0.02, 0.0, 1e308]",
+    ));
+    assert!(e.contains("units"), "{e}");
+}
+
+#[test]
+fn an_mjcf_axis_too_large_to_normalize_is_refused() {
+    let xml = |axis: &str| {
+        format!(
+            r#"<mujoco model="m"><worldbody><body name="palm">
+            <geom type="sphere" size="0.02"/>
+            <body name="a" pos="-0.02 0 0.06"><joint name="ja" axis="{axis}" range="0 1.5"/>
+              <geom type="capsule" fromto="0 0 0 0 0 0.04" size="0.008"/></body>
+            <body name="b" pos="0.02 0 0.06"><joint name="jb" axis="1 0 0" range="0 1.5"/>
+              <geom type="capsule" fromto="0 0 0 0 0 0.04" size="0.008"/></body>
+            </body></worldbody></mujoco>"#
+        )
+    };
+    assert!(prehensile_formats::parse_hand_mjcf(&xml("1 0 0"), "m.xml").is_ok());
+    let e = prehensile_formats::parse_hand_mjcf(&xml("1e308 1e308 0"), "m.xml")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("joint axis"), "{e}");
+}

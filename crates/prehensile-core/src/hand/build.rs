@@ -56,7 +56,7 @@ pub enum HandError {
         length: f64,
     },
     /// A radius is not positive.
-    #[error("bone '{bone}' has radius {radius}; radii must be positive metres")]
+    #[error("bone '{bone}' has radius {radius:?}; radii must be positive metres, at most {MAX_HAND_EXTENT} m")]
     BadRadius {
         /// The bone.
         bone: String,
@@ -205,6 +205,57 @@ fn topology(names: &[&str], parents: &[Option<&str>]) -> Result<Topology, HandEr
     })
 }
 
+/// Largest distance of any bone position, tip or capsule from its frame, and largest capsule
+/// radius, metres: no hand is bigger, and absurd sizes (1e300) made the search spin forever.
+pub const MAX_HAND_EXTENT: f64 = 2.0;
+
+fn check_extent(bone: &str, what: &str, points: &[Vec3]) -> Result<(), HandError> {
+    if points.iter().any(|p| p.norm() > MAX_HAND_EXTENT) {
+        return Err(HandError::Invalid(format!(
+            "bone '{bone}': its {what} lies more than {MAX_HAND_EXTENT} m away; hands are metres-scale at most, so check the units (metres)"
+        )));
+    }
+    Ok(())
+}
+
+/// Couplings must form chains that end at a free degree of freedom: none follows itself, none
+/// follows two leaders, and no cycle (a follows b follows a), or `constrain` could not satisfy
+/// them all and would silently break one.
+fn check_couplings(model: &HandModel) -> Result<(), HandError> {
+    let name = |k: usize| model.dof_names[k].clone();
+    let mut leader_of: Vec<Option<usize>> = vec![None; model.dof_count];
+    for c in &model.couplings {
+        if c.follower == c.leader {
+            return Err(HandError::Invalid(format!(
+                "'{}' is coupled to itself; couple it to another degree of freedom or drop the coupling",
+                name(c.follower)
+            )));
+        }
+        if leader_of[c.follower].replace(c.leader).is_some() {
+            return Err(HandError::Invalid(format!(
+                "'{}' follows two leaders; give it one",
+                name(c.follower)
+            )));
+        }
+    }
+    for start in 0..model.dof_count {
+        let mut k = start;
+        for _ in 0..=model.dof_count {
+            match leader_of[k] {
+                Some(l) if l == start => {
+                    return Err(HandError::Invalid(format!(
+                        "the couplings through '{}' form a cycle; one degree of freedom of the cycle must lead freely",
+                        name(start)
+                    )))
+                }
+                Some(l) => k = l,
+                None => break,
+            }
+        }
+    }
+    Ok(())
+}
+
 fn check_limits(bone: &str, joint: &Joint) -> Result<(), HandError> {
     for k in 0..joint.dofs() {
         let [min, max] = joint.limits(k);
@@ -222,11 +273,12 @@ fn check_limits(bone: &str, joint: &Joint) -> Result<(), HandError> {
             });
         }
     }
+    // A unit axis: an axis too large to normalize (1e308) or zero would give a joint that never
+    // turns.
+    let unit = |a: &Vec3| is_finite_vec(a) && (a.norm() - 1.0).abs() < 1e-6;
     let axes_ok = match joint {
-        Joint::Hinge(a) => is_finite_vec(&a.axis),
-        Joint::TwoAxis { flexion, abduction } => {
-            is_finite_vec(&flexion.axis) && is_finite_vec(&abduction.axis)
-        }
+        Joint::Hinge(a) => unit(&a.axis),
+        Joint::TwoAxis { flexion, abduction } => unit(&flexion.axis) && unit(&abduction.axis),
         _ => true,
     };
     if !axes_ok {
@@ -279,12 +331,20 @@ impl HandModel {
                 if !is_finite_vec(&a.coords) || !is_finite_vec(&c.coords) || !r.is_finite() {
                     return Err(non_finite("capsule"));
                 }
-                if *r <= 0.0 {
+                if *r <= 0.0 || *r > MAX_HAND_EXTENT {
                     return Err(HandError::BadRadius {
                         bone: b.name.clone(),
                         radius: *r,
                     });
                 }
+                check_extent(&b.name, "capsule end", &[a.coords, c.coords])?;
+            }
+            // The root may sit anywhere in its file's world; its children are near it.
+            if b.parent.is_some() {
+                check_extent(&b.name, "position", &[b.rest.translation.vector])?;
+            }
+            if let Some(t) = b.tip {
+                check_extent(&b.name, "tip", &[t.coords])?;
             }
             check_limits(&b.name, &b.joint)?;
             if b.dof_names.len() != b.joint.dofs() {
@@ -422,6 +482,7 @@ impl HandModel {
                 })
             })
             .collect::<Result<_, _>>()?;
+        check_couplings(&model)?;
         Ok(model)
     }
 
@@ -632,7 +693,11 @@ fn check_bone_numbers(b: &super::description::BoneDescription) -> Result<(), Han
     if !b.radius.is_finite() {
         return Err(non_finite("radius"));
     }
-    if b.radius <= 0.0 {
+    check_extent(&b.name, "origin", &[Vec3::from(b.origin)])?;
+    if let Some(t) = b.tip {
+        check_extent(&b.name, "tip", &[Vec3::from(t)])?;
+    }
+    if b.radius <= 0.0 || b.radius > MAX_HAND_EXTENT {
         return Err(HandError::BadRadius {
             bone: b.name.clone(),
             radius: b.radius,
