@@ -271,4 +271,13 @@ fn crafted_gltf_accessors_are_refused_before_the_reader_sees_them() {
     )
     .unwrap();
     refused(&["check", s(&file)], "must be trees");
+    // A primitive naming an accessor in a file with none panicked inside the gltf crate's own
+    // validation (found by the gltf_structured fuzzer).
+    let json = r#"{"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}]}"#;
+    std::fs::write(&file, glb(json, &[])).unwrap();
+    refused(
+        &["check", s(&file)],
+        "refers to accessor 0, but the file has 0",
+    );
+    refused(&["grasp", "--hand", s(&file)], "refers to accessor 0");
 }

@@ -4,7 +4,115 @@
 //! inside its buffer view and buffer.
 
 use gltf::accessor::{DataType, Dimensions};
+use gltf::json::validation::Checked;
 use gltf::mesh::Semantic;
+
+/// Parses glTF or GLB bytes with our own checks of every index and enum the readers use, instead
+/// of the `gltf` crate's validation: that validation indexes accessors before checking that they
+/// exist, and panicked on a primitive naming an accessor in a file with none (found by fuzzing).
+pub fn parse_gltf(bytes: &[u8]) -> Result<gltf::Gltf, String> {
+    let gltf = gltf::Gltf::from_slice_without_validation(bytes)
+        .map_err(|e| format!("not a readable glTF file: {e}"))?;
+    check_indices(gltf.document.as_json())?;
+    Ok(gltf)
+}
+
+/// Every index the readers follow points at an existing object, and every enum they read is
+/// known.
+fn check_indices(root: &gltf::json::Root) -> Result<(), String> {
+    let within = |what: &str, index: usize, len: usize, of: &str| {
+        if index < len {
+            Ok(())
+        } else {
+            Err(format!(
+                "{what} refers to {of} {index}, but the file has {len}"
+            ))
+        }
+    };
+    let (accessors, views, nodes) = (
+        root.accessors.len(),
+        root.buffer_views.len(),
+        root.nodes.len(),
+    );
+    for (i, a) in root.accessors.iter().enumerate() {
+        let what = format!("accessor {i}");
+        if let Some(v) = a.buffer_view {
+            within(&what, v.value(), views, "buffer view")?;
+        }
+        if !matches!(a.component_type, Checked::Valid(_)) || !matches!(a.type_, Checked::Valid(_)) {
+            return Err(format!("{what} has an unknown componentType or type"));
+        }
+        if let Some(sparse) = &a.sparse {
+            within(
+                &what,
+                sparse.indices.buffer_view.value(),
+                views,
+                "buffer view",
+            )?;
+            within(
+                &what,
+                sparse.values.buffer_view.value(),
+                views,
+                "buffer view",
+            )?;
+        }
+    }
+    for (i, v) in root.buffer_views.iter().enumerate() {
+        within(
+            &format!("buffer view {i}"),
+            v.buffer.value(),
+            root.buffers.len(),
+            "buffer",
+        )?;
+    }
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            let what = format!("mesh {m} primitive {p}");
+            for a in primitive.attributes.values() {
+                within(&what, a.value(), accessors, "accessor")?;
+            }
+            if let Some(a) = primitive.indices {
+                within(&what, a.value(), accessors, "accessor")?;
+            }
+            if !matches!(primitive.mode, Checked::Valid(_)) {
+                return Err(format!("{what} has an unknown mode"));
+            }
+        }
+    }
+    for (i, node) in root.nodes.iter().enumerate() {
+        let what = format!("node {i}");
+        for c in node.children.iter().flatten() {
+            within(&what, c.value(), nodes, "node")?;
+        }
+        if let Some(m) = node.mesh {
+            within(&what, m.value(), root.meshes.len(), "mesh")?;
+        }
+        if let Some(s) = node.skin {
+            within(&what, s.value(), root.skins.len(), "skin")?;
+        }
+    }
+    for (i, scene) in root.scenes.iter().enumerate() {
+        for n in &scene.nodes {
+            within(&format!("scene {i}"), n.value(), nodes, "node")?;
+        }
+    }
+    if let Some(s) = root.scene {
+        within("the default scene", s.value(), root.scenes.len(), "scene")?;
+    }
+    for (i, skin) in root.skins.iter().enumerate() {
+        let what = format!("skin {i}");
+        for j in &skin.joints {
+            within(&what, j.value(), nodes, "node")?;
+        }
+        if let Some(a) = skin.inverse_bind_matrices {
+            within(&what, a.value(), accessors, "accessor")?;
+        }
+        if let Some(n) = skin.skeleton {
+            within(&what, n.value(), nodes, "node")?;
+        }
+    }
+    Ok(())
+}
 
 /// Why `accessor` cannot be read as one of `allowed` from `buffers` (one byte vector per buffer,
 /// in the document's order), or `Ok`.

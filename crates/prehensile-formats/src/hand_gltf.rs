@@ -70,8 +70,7 @@ pub fn load_hand_gltf_skinned(path: &Path) -> Result<(HandModel, SkinnedMesh), F
         ));
     }
     let bytes = crate::read_input(path, crate::MAX_MESH_BYTES)?;
-    let gltf = gltf::Gltf::from_slice(&bytes)
-        .map_err(|e| FormatError::new(&name, format!("not a readable glTF file: {e}")))?;
+    let gltf = crate::gltf_accessors::parse_gltf(&bytes).map_err(|e| FormatError::new(&name, e))?;
     let blob = gltf.blob.clone().unwrap_or_default();
     let buffer = |b: gltf::Buffer| (b.index() == 0 && !blob.is_empty()).then_some(&blob[..]);
     let skin = gltf.document.skins().next().ok_or_else(|| {

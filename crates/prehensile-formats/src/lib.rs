@@ -8,6 +8,8 @@
 mod bvh;
 mod error;
 mod file_access;
+#[doc(hidden)]
+pub mod fuzz_entry;
 mod glb;
 mod gltf_accessors;
 mod hand_gltf;

@@ -11,8 +11,7 @@ use crate::FormatError;
 pub fn read_gltf_triangles(path: &Path) -> Result<(Vec<Point3>, Vec<[usize; 3]>), FormatError> {
     let name = path.display().to_string();
     let bytes = crate::read_input(path, crate::MAX_MESH_BYTES)?;
-    let gltf = gltf::Gltf::from_slice(&bytes)
-        .map_err(|e| FormatError::new(&name, format!("not a readable glTF file: {e}")))?;
+    let gltf = crate::gltf_accessors::parse_gltf(&bytes).map_err(|e| FormatError::new(&name, e))?;
     let doc = &gltf.document;
     // Buffers: the GLB's binary chunk, or files beside a .gltf. (Embedded base64 data URIs are
     // not supported: they would need the crate's image-decoding import feature.)

@@ -1,0 +1,6 @@
+//! Fuzzes the mesh_stl reader: any bytes parse or give an error; none panics, aborts or hangs.
+#![no_main]
+
+libfuzzer_sys::fuzz_target!(|data: &[u8]| {
+    let _ = prehensile_formats::fuzz_entry::run("mesh_stl", data);
+});
