@@ -19,6 +19,7 @@ use crate::math::{Point3, Vec3};
 
 use super::contacts::Contact;
 use super::convex_hull::ConvexHull;
+use super::force_closure::ForceClosure;
 
 /// The six load directions of [`Stability::load_ratio`], in the object's frame.
 pub const LOAD_DIRECTIONS: [&str; 6] = ["+x", "-x", "+y", "-y", "+z", "-z"];
@@ -95,6 +96,7 @@ pub struct Stability {
 pub struct GraspWrenchSpace {
     wrenches: Vec<[f64; 6]>,
     hull: ConvexHull<6>,
+    closure: ForceClosure,
 }
 
 impl GraspWrenchSpace {
@@ -119,7 +121,7 @@ impl GraspWrenchSpace {
         scale: f64,
     ) -> f64 {
         contact_wrenches(contacts, model, center, scale, &mut self.wrenches);
-        super::force_closure_margin(&self.wrenches)
+        self.closure.margin(&self.wrenches)
     }
 
     /// Stability of `contacts` on an object with centre of mass `center` and size `scale` (L).

@@ -11,7 +11,7 @@ pub mod grasp_wrench_space;
 
 pub use contacts::{find_contacts, Contact};
 pub use convex_hull::{ConvexHull, HullError, HullFacet};
-pub use force_closure::force_closure_margin;
+pub use force_closure::{force_closure_margin, ForceClosure};
 pub use grasp_wrench_space::{
     ContactModel, GraspWrenchSpace, Stability, FORCE_CLOSURE_EPSILON, LOAD_DIRECTIONS,
 };
