@@ -453,6 +453,12 @@ fn the_mirrored_human_hand_is_a_left_hand_that_grasps() {
         .x
     };
     assert!(thumb_x(&right) < 0.0 && thumb_x(&left) > 0.0);
+    assert!(left.is_left() && !right.is_left());
+    // The default shoulder is mirrored with the hand: beside the hand's own side.
+    let hook = Point3::origin();
+    let s_right = prehensile_core::search::default_shoulder(&right, &hook, &Vec3::z());
+    let s_left = prehensile_core::search::default_shoulder(&left, &hook, &Vec3::z());
+    assert!((s_right.y + s_left.y).abs() < 1e-12 && s_right.y < 0.0);
     for name in BUILTIN_OBJECTS {
         let object = common::object(name);
         for movement in ["power", "precision"] {

@@ -28,6 +28,26 @@ fn the_shadow_hand_imports_from_its_scene_with_joint_names_and_tendons() {
     let mut fingers: Vec<&str> = hand.fingers().iter().map(|f| f.name.as_str()).collect();
     fingers.sort();
     assert_eq!(fingers, ["index", "little", "middle", "ring", "thumb"]);
+    // A right hand, named after its file (the MJCF names no model), with the derived movements.
+    assert!(!hand.is_left());
+    assert_eq!(hand.name(), "reach");
+    for m in ["close", "power", "precision"] {
+        assert!(hand.movement(m).is_some(), "{m}");
+    }
+    // The derived precision pinches with thumb and index and turns the thumb's base (THJ4).
+    let precision = hand.movement("precision").unwrap();
+    let thj4 = hand
+        .dof_names()
+        .iter()
+        .position(|n| n == "robot0:THJ4")
+        .unwrap();
+    assert!(precision.end_angles()[thj4].abs() > 0.3);
+    let contact: Vec<&str> = precision
+        .contact_fingers()
+        .iter()
+        .map(|&f| hand.fingers()[f].name.as_str())
+        .collect();
+    assert_eq!(contact, ["thumb", "index"]);
     assert!(hand.dof_names().iter().any(|d| d == "robot0:FFJ3"));
     assert!(!hand.dof_names().iter().any(|d| d.starts_with("robot0:WRJ")));
     assert!(

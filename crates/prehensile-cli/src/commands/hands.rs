@@ -16,7 +16,28 @@ struct HandSummary {
     degrees_of_freedom: usize,
     fingers: Vec<String>,
     movements: Vec<String>,
+    /// Each movement: grasp center (hand frame), contact fingers, end angles by name.
+    movement_details: Vec<MovementSummary>,
+    /// Each finger: its chain's bones and its fingertip (last bone's frame).
+    finger_details: Vec<FingerSummary>,
+    /// The palm's side: true when the thumb lies on +x (a left hand).
+    left: bool,
     joints: Vec<JointSummary>,
+}
+
+#[derive(serde::Serialize)]
+struct MovementSummary {
+    name: String,
+    grasp_center: [f64; 3],
+    contact_fingers: Vec<String>,
+    end_angles_deg: std::collections::BTreeMap<String, f64>,
+}
+
+#[derive(serde::Serialize)]
+struct FingerSummary {
+    name: String,
+    bones: Vec<String>,
+    tip: [f64; 3],
 }
 
 #[derive(serde::Serialize)]
@@ -35,6 +56,35 @@ fn summary(h: &HandModel) -> HandSummary {
         degrees_of_freedom: h.dof_count(),
         fingers: h.fingers().iter().map(|f| f.name.clone()).collect(),
         movements: h.movements().iter().map(|m| m.name().to_string()).collect(),
+        movement_details: h
+            .movements()
+            .iter()
+            .map(|m| MovementSummary {
+                name: m.name().to_string(),
+                grasp_center: m.grasp_center().into(),
+                contact_fingers: m
+                    .contact_fingers()
+                    .iter()
+                    .map(|&f| h.fingers()[f].name.clone())
+                    .collect(),
+                end_angles_deg: h
+                    .dof_names()
+                    .iter()
+                    .zip(m.end_angles())
+                    .map(|(n, a)| (n.clone(), a.to_degrees()))
+                    .collect(),
+            })
+            .collect(),
+        finger_details: h
+            .fingers()
+            .iter()
+            .map(|f| FingerSummary {
+                name: f.name.clone(),
+                bones: f.bones.iter().map(|&b| h.bones()[b].name.clone()).collect(),
+                tip: f.tip.into(),
+            })
+            .collect(),
+        left: h.is_left(),
         joints: h
             .bones()
             .iter()

@@ -255,20 +255,18 @@ impl HandModel {
             .iter()
             .find(|f| f.name.to_lowercase().contains("thumb"))
             .or(self.fingers.first());
-        finger
-            .and_then(|f| f.bones.first())
-            .is_some_and(|&b| self.rest_in_root(b).translation.vector.x > 0.0)
-    }
-
-    /// The rest frame of `bone` in the root bone's frame.
-    fn rest_in_root(&self, bone: usize) -> Transform {
+        let Some(&base) = finger.and_then(|f| f.bones.first()) else {
+            return false;
+        };
+        // Bone frames chain from the root's frame; the root's rest turns it into the hand frame
+        // (an imported hand's root frame is its file's).
         let mut t = Transform::identity();
-        let mut b = Some(bone);
+        let mut b = Some(base);
         while let Some(i) = b.filter(|&i| i != 0) {
             t = self.bones[i].rest * t;
             b = self.bones[i].parent;
         }
-        t
+        (self.bones[0].rest.rotation * t.translation.vector).x > 0.0
     }
 
     /// Index of the bone with this name.
