@@ -263,6 +263,46 @@ impl TriangleMesh {
         (volume, centroid)
     }
 
+    /// The connected parts (triangles sharing vertices), each as its triangle indices, largest
+    /// volume first.
+    pub fn components(&self) -> Vec<Vec<usize>> {
+        // Union–find over vertices.
+        let mut parent: Vec<u32> = (0..self.vertices.len() as u32).collect();
+        fn find(parent: &mut [u32], mut v: u32) -> u32 {
+            while parent[v as usize] != v {
+                parent[v as usize] = parent[parent[v as usize] as usize];
+                v = parent[v as usize];
+            }
+            v
+        }
+        for tri in &self.triangles {
+            let a = find(&mut parent, tri[0]);
+            for &v in &tri[1..] {
+                let b = find(&mut parent, v);
+                parent[b as usize] = a;
+            }
+        }
+        let mut by_root: HashMap<u32, Vec<usize>> = HashMap::new();
+        for (t, tri) in self.triangles.iter().enumerate() {
+            by_root
+                .entry(find(&mut parent, tri[0]))
+                .or_default()
+                .push(t);
+        }
+        let mut parts: Vec<(f64, Vec<usize>)> = by_root
+            .into_values()
+            .map(|ts| {
+                let part = Self {
+                    vertices: self.vertices.clone(),
+                    triangles: ts.iter().map(|&t| self.triangles[t]).collect(),
+                };
+                (part.volume_and_centroid().0, ts)
+            })
+            .collect();
+        parts.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1[0].cmp(&b.1[0])));
+        parts.into_iter().map(|(_, ts)| ts).collect()
+    }
+
     /// Indices of (near) zero-area triangles: area below 1e-12 of the squared bounding diagonal or
     /// 1e-9 of the squared longest edge.
     pub fn degenerate_triangles(&self) -> Vec<usize> {

@@ -105,14 +105,33 @@ impl ObjectModel {
             return Err(MeshError::Defective(Box::new(report)).into());
         }
         let (_, center_of_mass) = mesh.volume_and_centroid();
-        let hooks = hooks.unwrap_or_else(|| vec![center_of_mass]);
+        // The collider first: the default hook must be on the object.
+        // The distance grid reaches 3 cm past the mesh: far enough to cover a hand closing on it.
+        let collider = MeshCollider::new(&mesh, 0.03);
+        let parts = mesh.components();
+        let hooks = hooks.unwrap_or_else(|| {
+            // Several separate parts with the centre of mass between them: hook the largest
+            // part's centre instead of empty space. (One part with its centre of mass outside
+            // its material, as a mug's, keeps it: the hand closes around the cavity.)
+            if parts.len() > 1 && collider.exact().signed_distance(&center_of_mass) > 0.0 {
+                let largest = TriangleMesh {
+                    vertices: mesh.vertices.clone(),
+                    triangles: parts[0].iter().map(|&t| mesh.triangles[t]).collect(),
+                };
+                repairs.push(format!(
+                    "the mesh has {} separate parts and its centre of mass lies between them; the hook is the largest part's centre",
+                    parts.len()
+                ));
+                vec![largest.volume_and_centroid().1]
+            } else {
+                vec![center_of_mass]
+            }
+        });
         for (i, h) in hooks.iter().enumerate() {
             if !h.iter().all(|c| c.is_finite()) {
                 return Err(ObjectError::BadHook(i));
             }
         }
-        // The distance grid reaches 3 cm past the mesh: far enough to cover a hand closing on it.
-        let collider = MeshCollider::new(&mesh, 0.03);
         Ok(Self {
             name: name.to_string(),
             mesh,
@@ -177,5 +196,44 @@ impl ObjectModel {
     #[inline]
     pub fn capsule_touches(&self, capsule: &Capsule, counters: &mut CollisionCounters) -> bool {
         self.collider.capsule_touches(capsule, counters)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Vec3;
+
+    #[test]
+    fn two_separate_cubes_are_hooked_on_the_larger_not_in_the_gap() {
+        let small = crate::shapes::cuboid(Vec3::new(0.04, 0.04, 0.04));
+        let large = crate::shapes::cuboid(Vec3::new(0.05, 0.05, 0.05));
+        // The small cube 3 cm beyond the large one along x.
+        let offset = Vec3::new(0.075, 0.0, 0.0);
+        let n = large.vertices.len() as u32;
+        let mut vertices = large.vertices.clone();
+        vertices.extend(small.vertices.iter().map(|p| p + offset));
+        let mut triangles = large.triangles.clone();
+        triangles.extend(small.triangles.iter().map(|t| t.map(|v| v + n)));
+        let mesh = TriangleMesh {
+            vertices,
+            triangles,
+        };
+        assert_eq!(mesh.components().len(), 2);
+        let object = ObjectModel::new("two cubes", mesh, None).unwrap();
+        let hook = object.hooks()[0];
+        assert!(
+            object.collider().exact().signed_distance(&hook) < 0.0,
+            "{hook}"
+        );
+        assert!(hook.coords.norm() < 1e-9, "the large cube's centre: {hook}");
+        assert!(object
+            .repairs()
+            .iter()
+            .any(|r| r.contains("2 separate parts")));
+        // One part whose centre of mass lies outside its material (the mug) keeps it.
+        let mug =
+            ObjectModel::new("mug", crate::shapes::builtin_object("mug").unwrap(), None).unwrap();
+        assert_eq!(mug.hooks()[0], mug.center_of_mass());
     }
 }

@@ -20,6 +20,7 @@ pub fn run(args: &CheckArgs) -> Result<i32, CliError> {
         mesh = welded;
     }
     let report = mesh.report();
+    let parts = mesh.components().len();
     // What `grasp` will do with it: the same exact repairs and checks (plausible size too).
     let name = args.mesh.display().to_string();
     let verdict = prehensile_core::ObjectModel::new(&name, mesh, None);
@@ -31,6 +32,7 @@ pub fn run(args: &CheckArgs) -> Result<i32, CliError> {
         let mut value = serde_json::to_value(&report).map_err(CliError::from_display)?;
         if let Some(map) = value.as_object_mut() {
             map.insert("repairs".into(), serde_json::json!(repairs));
+            map.insert("parts".into(), serde_json::json!(parts));
             map.insert("grasp_accepts".into(), serde_json::json!(verdict.is_ok()));
             map.insert(
                 "grasp_error".into(),
@@ -45,6 +47,7 @@ pub fn run(args: &CheckArgs) -> Result<i32, CliError> {
         out!("{}", args.mesh.display());
         out!("  triangles           {}", report.triangles);
         out!("  vertices (welded)   {}", report.vertices);
+        out!("  separate parts      {parts}");
         out!(
             "  closed              {}",
             if report.boundary_edges == 0 {
