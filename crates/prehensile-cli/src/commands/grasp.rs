@@ -206,6 +206,7 @@ pub fn up_axis(s: &str) -> Result<Vec3, CliError> {
 
 /// Runs `prehensile grasp`.
 pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
+    let setup = Instant::now();
     let hand = sources::hand(&args.hand)?;
     let mut object = sources::object(
         &args.object,
@@ -258,6 +259,7 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
         },
         progress: true,
     };
+    let setup_ms = setup.elapsed().as_secs_f64() * 1e3;
     let (result, took) = search(&request)?;
     let hold = if args.hold {
         Some(hold_test(&hand, &object, &result)?)
@@ -315,13 +317,14 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
         )
     };
     eprintln!(
-        "{} on {}: {} ({}), fingers touching: {}, {:.1} ms",
+        "{} on {}: {} ({}), fingers touching: {}, search {:.1} ms (reading and setting up hand and object: {:.1} ms)",
         hand.name(),
         object.name(),
         status,
         result.movement,
         result.fingers_touching.join(", "),
-        took.as_secs_f64() * 1e3
+        took.as_secs_f64() * 1e3,
+        setup_ms
     );
     if let Some(h) = &hold {
         let held: Vec<&str> = h
