@@ -96,26 +96,10 @@ fn glb(input: &Input) -> Vec<u8> {
         }
         doc["skins"] = json!([skin]);
     }
-    let mut json = serde_json::to_vec(&doc).expect("a JSON value serializes");
-    while json.len() % 4 != 0 {
-        json.push(b' ');
-    }
-    let mut bin = input.bin.clone();
-    while bin.len() % 4 != 0 {
-        bin.push(0);
-    }
-    let total = 12 + 8 + json.len() + 8 + bin.len();
-    let mut out = Vec::with_capacity(total);
-    out.extend(b"glTF");
-    out.extend(2u32.to_le_bytes());
-    out.extend((total as u32).to_le_bytes());
-    out.extend((json.len() as u32).to_le_bytes());
-    out.extend(b"JSON");
-    out.extend(json);
-    out.extend((bin.len() as u32).to_le_bytes());
-    out.extend(b"BIN\0");
-    out.extend(bin);
-    out
+    prehensile_formats::glb_container(
+        &serde_json::to_vec(&doc).expect("a JSON value serializes"),
+        &input.bin,
+    )
 }
 
 libfuzzer_sys::fuzz_target!(|input: Input| {

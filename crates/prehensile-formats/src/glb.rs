@@ -363,20 +363,28 @@ fn animated_glb(
     if !skins.is_empty() {
         doc["skins"] = json!(skins);
     }
-    let mut text = serde_json::to_vec(&doc).expect("JSON values serialize");
-    while text.len() % 4 != 0 {
-        text.push(b' ');
-    }
-    let total = 12 + 8 + text.len() + 8 + b.bin.len();
+    glb_container(
+        &serde_json::to_vec(&doc).expect("JSON values serialize"),
+        &b.bin,
+    )
+}
+
+/// A binary glTF (GLB) file of a JSON chunk and a binary chunk, each padded to 4 bytes.
+pub fn glb_container(json: &[u8], bin: &[u8]) -> Vec<u8> {
+    let pad = |n: usize| n.div_ceil(4) * 4;
+    let (json_len, bin_len) = (pad(json.len()), pad(bin.len()));
+    let total = 12 + 8 + json_len + 8 + bin_len;
     let mut out = Vec::with_capacity(total);
     out.extend_from_slice(b"glTF");
     out.extend_from_slice(&2u32.to_le_bytes());
     out.extend_from_slice(&(total as u32).to_le_bytes());
-    out.extend_from_slice(&(text.len() as u32).to_le_bytes());
+    out.extend_from_slice(&(json_len as u32).to_le_bytes());
     out.extend_from_slice(b"JSON");
-    out.extend_from_slice(&text);
-    out.extend_from_slice(&(b.bin.len() as u32).to_le_bytes());
+    out.extend_from_slice(json);
+    out.resize(12 + 8 + json_len, b' ');
+    out.extend_from_slice(&(bin_len as u32).to_le_bytes());
     out.extend_from_slice(b"BIN\0");
-    out.extend_from_slice(&b.bin);
+    out.extend_from_slice(bin);
+    out.resize(total, 0);
     out
 }

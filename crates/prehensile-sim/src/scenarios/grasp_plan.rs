@@ -160,6 +160,19 @@ impl Default for GraspTimes {
     }
 }
 
+impl GraspTimes {
+    /// The approach and closing as by default, and a lift that never comes (the hand stays).
+    pub fn without_lift() -> Self {
+        Self {
+            lift: 1e6,
+            lifted: 1e6 + 1.0,
+            release: 1e6 + 2.0,
+            end: 1e6 + 3.0,
+            ..Self::default()
+        }
+    }
+}
+
 /// Height of the lift, metres.
 pub const LIFT: f64 = 0.10;
 /// How far back the approach starts, metres.

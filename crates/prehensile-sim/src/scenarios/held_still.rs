@@ -6,7 +6,9 @@
 use prehensile_core::math::Transform;
 use prehensile_core::{HandModel, ObjectModel};
 
-use super::{grasp_arm, plan_grasp, GraspTimes};
+use prehensile_control::GraspController;
+
+use super::{grasp_arm, plan_grasp, GraspTimes, PlannedGrasp};
 use crate::simulation::{DistanceTo, HandSetup, Settings, Simulation};
 use crate::SimError;
 
@@ -23,30 +25,16 @@ pub fn held_still(
     let gravity = -9.81 * grasp.approach.normalize();
     let mut controller = grasp.controller(hand, &gravity)?;
     controller.alpha = 0.5;
-    // The lift never comes.
-    let times = GraspTimes {
-        lift: 1e6,
-        lifted: 1e6 + 1.0,
-        release: 1e6 + 2.0,
-        end: 1e6 + 3.0,
-        ..GraspTimes::default()
-    };
-    let mut sim = Simulation::new(Settings {
-        gravity,
-        ..settings
-    })?;
-    sim.add_object(object, &Transform::identity(), true)?;
-    sim.add_hand(HandSetup {
-        hand: hand.clone(),
-        start: controller.setpoints.neutral.clone(),
+    let (mut sim, times) = closing_on_fixed_object(
+        hand,
+        object,
+        &grasp,
         controller,
-        arm: grasp_arm(&grasp, &Transform::identity(), &times),
-        distance: DistanceTo::GraspPlace(grasp.place()),
-        release_at: None,
-        compensate_gravity: true,
-        compensate_arm: true,
-        manual: Vec::new(),
-    })?;
+        Settings {
+            gravity,
+            ..settings
+        },
+    )?;
     while sim.time() < times.let_go + 0.05 {
         if sim.time() >= times.let_go {
             sim.let_go_object();
@@ -54,4 +42,31 @@ pub fn held_still(
         sim.step()?;
     }
     Ok(sim)
+}
+
+/// The scene the held-still benchmark and the hold test start from: `object` fixed at the
+/// origin, `hand` approaching and closing on it along `grasp`'s arm path under `controller`,
+/// the lift never coming. Returns the world and its times (the object is let go at `let_go`).
+pub(crate) fn closing_on_fixed_object(
+    hand: &HandModel,
+    object: &ObjectModel,
+    grasp: &PlannedGrasp,
+    controller: GraspController,
+    settings: Settings,
+) -> Result<(Simulation, GraspTimes), SimError> {
+    let times = GraspTimes::without_lift();
+    let mut sim = Simulation::new(settings)?;
+    sim.add_object(object, &Transform::identity(), true)?;
+    sim.add_hand(HandSetup {
+        hand: hand.clone(),
+        start: controller.setpoints.neutral.clone(),
+        controller,
+        arm: grasp_arm(grasp, &Transform::identity(), &times),
+        distance: DistanceTo::GraspPlace(grasp.place()),
+        release_at: None,
+        compensate_gravity: true,
+        compensate_arm: true,
+        manual: Vec::new(),
+    })?;
+    Ok((sim, times))
 }

@@ -8,13 +8,14 @@
 //! only gravity (and its compensation in the hand) differs, and it acts on the object only after
 //! let-go, since the object is fixed until then.
 
-use prehensile_core::math::{Transform, Vec3};
+use prehensile_core::math::Vec3;
 use prehensile_core::stability::LOAD_DIRECTIONS;
 use prehensile_core::{HandModel, ObjectModel};
 use serde::Serialize;
 
-use super::{grasp_arm, GraspTimes, PlannedGrasp};
-use crate::simulation::{DistanceTo, HandSetup, Settings, Simulation};
+use super::held_still::closing_on_fixed_object;
+use super::PlannedGrasp;
+use crate::simulation::{Settings, Simulation};
 use crate::SimError;
 
 /// Largest move of the object in the hand that still counts as held, metres.
@@ -73,13 +74,6 @@ pub fn hold_test(
     }
     settings.check()?;
     let g = settings.gravity.norm();
-    let times = GraspTimes {
-        lift: 1e6,
-        lifted: 1e6 + 1.0,
-        release: 1e6 + 2.0,
-        end: 1e6 + 3.0,
-        ..GraspTimes::default()
-    };
     let mut report = HoldReport {
         alpha,
         object_mass_kg: 0.0,
@@ -93,22 +87,17 @@ pub fn hold_test(
         let gravity = axis * g;
         let mut controller = grasp.controller(hand, &gravity)?;
         controller.alpha = alpha;
-        let mut sim = Simulation::new(Settings {
-            gravity,
-            ..settings
-        })?;
-        report.object_mass_kg = sim.add_object(object, &Transform::identity(), true)?.mass;
-        sim.add_hand(HandSetup {
-            hand: hand.clone(),
-            start: controller.setpoints.neutral.clone(),
+        let (mut sim, times) = closing_on_fixed_object(
+            hand,
+            object,
+            grasp,
             controller,
-            arm: grasp_arm(grasp, &Transform::identity(), &times),
-            distance: DistanceTo::GraspPlace(grasp.place()),
-            release_at: None,
-            compensate_gravity: true,
-            compensate_arm: true,
-            manual: Vec::new(),
-        })?;
+            Settings {
+                gravity,
+                ..settings
+            },
+        )?;
+        report.object_mass_kg = sim.object().map_or(0.0, |o| o.mass);
         let in_hand = |sim: &Simulation| {
             let o = sim.object_pose().expect("the test has an object");
             sim.root(0).inverse() * o
