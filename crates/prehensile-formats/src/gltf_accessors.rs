@@ -11,6 +11,17 @@ use gltf::mesh::Semantic;
 /// of the `gltf` crate's validation: that validation indexes accessors before checking that they
 /// exist, and panicked on a primitive naming an accessor in a file with none (found by fuzzing).
 pub fn parse_gltf(bytes: &[u8]) -> Result<gltf::Gltf, String> {
+    // The gltf crate subtracts the 12-byte header from the declared length unchecked, which
+    // overflows (a panic in debug builds) when a GLB declares less than its own header.
+    if let [b'g', b'l', b'T', b'F', _, _, _, _, l0, l1, l2, l3, ..] = bytes {
+        let declared = u32::from_le_bytes([*l0, *l1, *l2, *l3]);
+        if declared < 12 {
+            return Err(format!(
+                "not a readable glTF file: the GLB header declares a length of {declared} bytes, \
+                 less than the header itself"
+            ));
+        }
+    }
     let gltf = gltf::Gltf::from_slice_without_validation(bytes)
         .map_err(|e| format!("not a readable glTF file: {e}"))?;
     check_indices(gltf.document.as_json())?;

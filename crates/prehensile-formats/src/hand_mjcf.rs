@@ -338,6 +338,14 @@ pub fn parse_hand_mjcf_with(
             .attribute("name")
             .map(str::to_string)
             .unwrap_or_else(|| format!("body@{}", at(body)));
+        // MuJoCo requires unique body names; the bone tree is linked by name.
+        if parts.bones.iter().any(|b| b.name == name) {
+            return Err(FormatError::at(
+                source,
+                at(body),
+                format!("two bodies are named '{name}'; body names must be unique"),
+            ));
+        }
         let rest = if parent.is_some() {
             frame_of(body)?
         } else {

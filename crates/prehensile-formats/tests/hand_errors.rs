@@ -213,3 +213,27 @@ fn an_mjcf_axis_too_large_to_normalize_is_refused() {
         .to_string();
     assert!(e.contains("joint axis"), "{e}");
 }
+
+#[test]
+fn two_mjcf_bodies_with_one_name_are_refused_instead_of_looping() {
+    // The fuzzer found that a body named like its parent sent the finger-naming walk,
+    // which follows the chain by name, round forever.
+    let xml = |inner: &str| {
+        format!(
+            r#"<mujoco model="m"><worldbody><body name="palm">
+            <geom type="sphere" size="0.02"/>
+            <body name="a" pos="-0.02 0 0.06"><joint name="ja" axis="1 0 0" range="0 1.5"/>
+              <geom type="capsule" fromto="0 0 0 0 0 0.04" size="0.008"/>
+              <body name="{inner}" pos="0 0 0.04"><joint name="ja2" axis="1 0 0" range="0 1.5"/>
+                <geom type="capsule" fromto="0 0 0 0 0 0.03" size="0.008"/></body></body>
+            <body name="b" pos="0.02 0 0.06"><joint name="jb" axis="1 0 0" range="0 1.5"/>
+              <geom type="capsule" fromto="0 0 0 0 0 0.04" size="0.008"/></body>
+            </body></worldbody></mujoco>"#
+        )
+    };
+    assert!(prehensile_formats::parse_hand_mjcf(&xml("a2"), "m.xml").is_ok());
+    let e = prehensile_formats::parse_hand_mjcf(&xml("a"), "m.xml")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("two bodies are named 'a'"), "{e}");
+}
