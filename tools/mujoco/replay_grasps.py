@@ -114,27 +114,50 @@ def build_here(result, mesh_path):
     geom.friction = [1.0, 0.005, 0.0001]
     geom.contype = 1
     geom.conaffinity = 1
+    # With the palm welded to the world MuJoCo no longer filters its contacts with its child
+    # bodies (the thumb base's box sits inside the palm's): exclude them as the free hand would.
+    for child in spec.body("robot0:palm").bodies:
+        exclude = spec.add_exclude()
+        exclude.bodyname1 = "robot0:palm"
+        exclude.bodyname2 = child.name
     spec.option.gravity = [0, 0, 0]
     return spec.compile()
 
 
+def closing_directions(movement, model):
+    """Per joint name, the sign in which the result's movement closes the hand: its end angle
+    (`prehensile hands --file HAND --json`) minus the open angle (zero clamped into the joint's
+    range); joints it moves less than 3 degrees get 0."""
+    p = subprocess.run(["./target/release/prehensile", "hands", "--file", HAND, "--json"],
+                       capture_output=True, text=True, check=True)
+    details = {m["name"]: m for m in json.loads(p.stdout)[0]["movement_details"]}
+    out = {}
+    for name, end_deg in details[movement]["end_angles_deg"].items():
+        lo, hi = model.jnt_range[model.joint(name).id]
+        delta = np.radians(end_deg) - np.clip(0.0, lo, hi)
+        out[name] = float(np.sign(delta)) if abs(delta) > np.radians(3.0) else 0.0
+    return out
+
+
 def replay(result, mesh_path):
     angles = {j["name"]: j["angle"] for j in result["joints"]}
+    closing = None
     outcomes = []
     for k, direction in enumerate(DIRECTIONS):
         model = build(result, mesh_path)
         data = mujoco.MjData(model)
+        closing = closing or closing_directions(result["movement"], model)
         for name, a in angles.items():
             data.qpos[model.jnt_qposadr[model.joint(name).id]] = a
         mujoco.mj_forward(model, data)
-        # Squeeze past contact: each joint the grasp moved away from the open pose (every angle
-        # zero) is pushed 0.2 rad further the same way; joints left open stay where they are.
+        # Squeeze past contact: each joint the movement closes is pushed 0.2 rad further in its
+        # closing direction; joints the movement leaves alone (spread, twist) hold their angle.
         for i in range(model.nu):
             if model.actuator_trntype[i] != mujoco.mjtTrn.mjTRN_JOINT:
                 continue
             j = model.actuator_trnid[i, 0]
             q = data.qpos[model.jnt_qposadr[j]]
-            target = q + SQUEEZE * np.sign(q) if abs(q) > 0.05 else q
+            target = q + SQUEEZE * closing.get(model.joint(j).name, 0.0)
             lo, hi = model.actuator_ctrlrange[i]
             data.ctrl[i] = np.clip(target, lo, hi)
         obj = model.body("object").id

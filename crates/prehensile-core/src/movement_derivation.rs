@@ -14,13 +14,19 @@
 //!   from opposite sides), the other fingers follow the index side by side. Contact fingers:
 //!   thumb, then index.
 //!
+//! Fingers other than the thumb keep out of each other: each is solved with a penalty on its
+//! capsules' overlap with its neighbours beyond what they overlap at rest.
+//!
 //! The movements start from the open pose (every angle zero, clamped into its limits) and end at
 //! the targets; finger closing stops each bone at its first contact on the way.
 
+use crate::geometry::distance_squared_segment_segment;
 use crate::hand::HandModel;
 use crate::math::{Point3, Rotation, Transform, Vec3};
 use crate::movement::GraspMovement;
 
+/// Metres of tip distance one metre of finger–finger capsule overlap costs.
+const OVERLAP_WEIGHT: f64 = 10.0;
 /// Smallest coordinate-descent step, radians.
 const MIN_STEP: f64 = 1e-4;
 /// Largest number of sweeps over a finger's joints.
@@ -175,6 +181,28 @@ fn rotations(hand: &HandModel, q: &[f64]) -> Vec<Rotation> {
     r
 }
 
+/// Summed overlap depth (metres) of finger `f`'s capsules with those of fingers `others`, all
+/// placed by `world`.
+fn finger_overlap(hand: &HandModel, world: &[Transform], f: usize, others: &[usize]) -> f64 {
+    let placed = |finger: usize| {
+        hand.fingers()[finger].bones.iter().flat_map(|&b| {
+            hand.bone_capsules(b)
+                .iter()
+                .map(move |c| (world[b] * c.a, world[b] * c.b, c.radius))
+        })
+    };
+    let mut sum = 0.0;
+    for (a1, b1, r1) in placed(f) {
+        for &g in others {
+            for (a2, b2, r2) in placed(g) {
+                let d = distance_squared_segment_segment(&a1, &b1, &a2, &b2).sqrt();
+                sum += (r1 + r2 - d).max(0.0);
+            }
+        }
+    }
+    sum
+}
+
 fn tip(hand: &HandModel, world: &[Transform], finger: usize) -> Point3 {
     let f = &hand.fingers()[finger];
     world[*f.bones.last().expect("fingers have bones")] * f.tip
@@ -182,8 +210,15 @@ fn tip(hand: &HandModel, world: &[Transform], finger: usize) -> Point3 {
 
 /// Joint angles bringing each finger's tip as near its target as the limits allow (coordinate
 /// descent with a halving step, finger by finger; couplings applied after every move).
+///
+/// A finger other than the thumb must not sink into its neighbours beyond what they overlap at
+/// rest: a penalty on the summed capsule overlap keeps side-by-side fingers from converging on
+/// one target (in an engine that collides fingers with each other, as MuJoCo does, they would
+/// push each other and the object aside). The thumb is meant to meet the fingers and is exempt.
 fn reach_targets(hand: &HandModel, targets: &[Point3]) -> Vec<f64> {
     let mut q = open_angles(hand);
+    let rest = rest_pose(hand);
+    let thumb_finger = thumb(hand);
     for (f, target) in targets.iter().enumerate() {
         let dofs: Vec<usize> = hand.fingers()[f]
             .bones
@@ -193,9 +228,19 @@ fn reach_targets(hand: &HandModel, targets: &[Point3]) -> Vec<f64> {
                 bone.first_dof..bone.first_dof + bone.joint.dofs()
             })
             .collect();
+        let neighbours: Vec<usize> = if Some(f) == thumb_finger {
+            Vec::new()
+        } else {
+            (0..hand.fingers().len())
+                .filter(|&g| g != f && Some(g) != thumb_finger)
+                .collect()
+        };
+        let rest_overlap = finger_overlap(hand, &rest, f, &neighbours);
         let distance = |q: &[f64]| {
             let world = hand.pose_transforms(&Transform::identity(), &rotations(hand, q));
+            let overlap = finger_overlap(hand, &world, f, &neighbours);
             (tip(hand, &world, f) - target).norm()
+                + OVERLAP_WEIGHT * (overlap - rest_overlap).max(0.0)
         };
         let mut best = distance(&q);
         let mut step = 0.25;

@@ -166,3 +166,51 @@ fn a_ball_joint_becomes_three_named_degrees_of_freedom() {
     let base = hand.bone_index("robot0:thbase").unwrap();
     assert_eq!(hand.bones()[base].joint.limits(2), [-0.8, 0.8]);
 }
+
+#[test]
+fn the_shadow_hands_derived_movements_keep_side_by_side_fingers_apart() {
+    use prehensile_core::geometry::distance_squared_segment_segment;
+    use prehensile_core::math::{Rotation, Transform};
+    let hand = load_hand(&shadow("reach.xml")).unwrap();
+    // Deepest overlap between capsules of two different non-thumb fingers, in metres.
+    let deepest_overlap = |angles: &[f64]| {
+        let mut rotations = vec![Rotation::identity(); hand.bones().len()];
+        hand.joint_rotations(angles, &mut rotations);
+        let world = hand.pose_transforms(&Transform::identity(), &rotations);
+        let placed: Vec<_> = hand
+            .capsules()
+            .iter()
+            .filter_map(|c| {
+                let finger = hand
+                    .fingers()
+                    .iter()
+                    .position(|f| f.bones.contains(&c.bone))?;
+                (hand.fingers()[finger].name != "thumb")
+                    .then(|| (finger, world[c.bone] * c.a, world[c.bone] * c.b, c.radius))
+            })
+            .collect();
+        let mut deepest = 0.0f64;
+        for (i, (f1, a1, b1, r1)) in placed.iter().enumerate() {
+            for (f2, a2, b2, r2) in &placed[i + 1..] {
+                if f1 != f2 {
+                    let d = distance_squared_segment_segment(a1, b1, a2, b2).sqrt();
+                    deepest = deepest.max(r1 + r2 - d);
+                }
+            }
+        }
+        deepest
+    };
+    let rest = deepest_overlap(&vec![0.0; hand.dof_count()]);
+    // MuJoCo collides the Shadow hand's fingers with each other: a derived pose that sinks the
+    // ring finger into the little finger pushes both, and the object, aside.
+    for m in ["power", "precision"] {
+        let end = hand.movement(m).unwrap().end_angles();
+        let overlap = deepest_overlap(end);
+        assert!(
+            overlap <= rest + 1e-3,
+            "{m}: fingers overlap {:.1} mm (at rest {:.1} mm)",
+            overlap * 1e3,
+            rest * 1e3
+        );
+    }
+}
