@@ -52,6 +52,51 @@ pub enum Command {
     Simulate(SimulateArgs),
     /// Fit a grasp controller to an example motion (.json or .bvh).
     Fit(FitArgs),
+    /// Search every hand x object x movement x shoulder x seed on all cores and write a
+    /// resumable Apache Parquet dataset (see docs/BATCH.md).
+    Batch(BatchArgs),
+}
+
+/// `prehensile batch`.
+#[derive(Debug, Args)]
+pub struct BatchArgs {
+    /// Hands: built-in names or hand files (space- or comma-separated).
+    #[arg(long, num_args = 1.., value_delimiter = ',', default_value = "human")]
+    pub hands: Vec<String>,
+    /// Objects: built-in names, mesh files, folders (their mesh files) or patterns such as
+    /// 'scans/*.stl' (quoted).
+    #[arg(long, num_args = 1.., value_delimiter = ',', default_values_t = prehensile_core::shapes::BUILTIN_OBJECTS.map(String::from))]
+    pub objects: Vec<String>,
+    /// Movements of the hands, or auto (try each, keep the best).
+    #[arg(long, num_args = 1.., value_delimiter = ',', default_value = "auto")]
+    pub movements: Vec<String>,
+    /// Shoulders: default (the hand's default for the object) or X,Y,Z (space-separated).
+    #[arg(long, num_args = 1.., default_value = "default", allow_hyphen_values = true)]
+    pub shoulders: Vec<String>,
+    /// Seeds 1..=N of the random search angles.
+    #[arg(long, default_value_t = 1)]
+    pub seeds: u64,
+    /// The dataset folder: created, or resumed if it holds a dataset of the same inputs.
+    #[arg(long, default_value = "prehensile-dataset")]
+    pub out: PathBuf,
+    /// Units, scale and repair of mesh files.
+    #[command(flatten)]
+    pub mesh_options: MeshOptions,
+    /// The world's up axis: x, y or z.
+    #[arg(long, default_value = "z")]
+    pub up: String,
+    /// Coulomb friction coefficient of the contacts.
+    #[arg(long, default_value_t = 0.5)]
+    pub friction: f64,
+    /// Which grasps are valid: holds or thesis.
+    #[arg(long, default_value = "holds", value_parser = parse_validity)]
+    pub validity: ValidityRule,
+    /// Worker threads (default: one per core).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Write a part file every this many rows (and at least every 5 s).
+    #[arg(long, default_value_t = 256)]
+    pub flush_rows: usize,
 }
 
 /// `prehensile simulate`.

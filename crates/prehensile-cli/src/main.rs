@@ -45,6 +45,7 @@ fn main() {
         args::Command::Demo(a) => commands::demo::run(&a),
         args::Command::Simulate(a) => commands::simulate::run(&a),
         args::Command::Fit(a) => commands::fit::run(&a),
+        args::Command::Batch(a) => commands::batch::run(&a),
     };
     match outcome {
         Ok(code) => std::process::exit(code),

@@ -22,6 +22,7 @@ mod mesh_obj;
 mod mesh_ply;
 mod mesh_stl;
 mod meshes;
+pub mod sources;
 
 pub use bvh::{euler_zxy, parse_bvh, write_bvh, BvhJoint, BvhMotion};
 pub use error::FormatError;

@@ -8,9 +8,9 @@ use prehensile_core::shapes::BUILTIN_OBJECTS;
 use prehensile_formats::BUILTIN_HANDS;
 
 use crate::args::DemoArgs;
-use crate::commands::grasp::{glb_bytes, search, Request};
+use crate::commands::grasp::{glb_bytes, search};
 use crate::{picture, sources, CliError};
-use prehensile_core::search::default_shoulder;
+use prehensile_core::search::{default_shoulder, GraspRequest, SearchParams, AUTO_MOVEMENT};
 
 /// Runs the demo and writes `<hand>-<object>.json`, `.svg` and an `index.html` gallery.
 pub fn run(args: &DemoArgs) -> Result<i32, CliError> {
@@ -38,20 +38,17 @@ pub fn run(args: &DemoArgs) -> Result<i32, CliError> {
         for object in &objects {
             bar.set_message(format!("{} on {}", hand.name(), object.name()));
             let up = Vec3::z();
-            let request = Request {
-                hand,
-                object,
-                movement: "auto",
+            let request = GraspRequest {
+                movement: AUTO_MOVEMENT.into(),
                 shoulder: default_shoulder(hand, &object.hooks()[0], &up),
-                up,
-                seed: args.seed,
+                params: SearchParams {
+                    seed: args.seed,
+                    up,
+                    ..SearchParams::default()
+                },
                 budget: None,
-                weights: None,
-                validity: Default::default(),
-                contact_model: Default::default(),
-                progress: false,
             };
-            let (result, took) = search(&request)?;
+            let (result, took) = search(hand, object, &request, false)?;
             let stem = format!("{}-{}", hand.name(), object.name());
             let json = serde_json::to_string_pretty(&result).map_err(CliError::from_display)?;
             write(&args.out.join(format!("{stem}.json")), &json)?;

@@ -6,43 +6,17 @@ use indicatif::{ProgressBar, ProgressStyle};
 use prehensile_core::math::{Point3, Vec3};
 use prehensile_core::search::default_shoulder;
 use prehensile_core::search::{
-    Evaluation, GraspPlanner, GraspResult, QualityWeights, SearchParams, SearchSink, SearchStats,
-    ValidityRule,
+    find_grasp, Evaluation, GraspRequest, GraspResult, QualityWeights, SearchParams, SearchSink,
+    SearchStats,
 };
 use prehensile_core::stability::ContactModel;
-use prehensile_core::{HandModel, ObjectModel, Workspace};
+use prehensile_core::{HandModel, ObjectModel};
 
 use crate::args::GraspArgs;
 use crate::{picture, sources, CliError};
 
 /// The largest `--budget-ms`: a day.
 const MAX_BUDGET_MS: f64 = 86_400_000.0;
-
-/// A resolved grasp request.
-pub struct Request<'a> {
-    /// The hand.
-    pub hand: &'a HandModel,
-    /// The object (hooks set).
-    pub object: &'a ObjectModel,
-    /// Movement name or `auto`.
-    pub movement: &'a str,
-    /// Shoulder, world.
-    pub shoulder: Point3,
-    /// Up direction.
-    pub up: Vec3,
-    /// Seed.
-    pub seed: u64,
-    /// Time budget per movement.
-    pub budget: Option<Duration>,
-    /// Quality weights, or the movement's defaults.
-    pub weights: Option<QualityWeights>,
-    /// Which grasps are valid.
-    pub validity: ValidityRule,
-    /// How contacts resist forces.
-    pub contact_model: ContactModel,
-    /// Show a spinner with the search's progress on a terminal.
-    pub progress: bool,
-}
 
 /// Shows the search's progress on a spinner.
 struct SpinnerSink {
@@ -52,6 +26,11 @@ struct SpinnerSink {
 }
 
 impl SearchSink for SpinnerSink {
+    fn movement_started(&mut self, name: &str) {
+        self.movement = name.to_string();
+        self.best = None;
+    }
+
     fn step(&mut self, stats: &SearchStats, _current: &Evaluation) {
         let best = self
             .best
@@ -68,85 +47,29 @@ impl SearchSink for SpinnerSink {
     }
 }
 
-/// Runs the search for one movement, or for each movement with `auto`, and returns the chosen
-/// result with the wall time it took.
-///
-/// `auto` tries the hand's authored movements (the generic `close` only when there are none) and
-/// keeps, among valid results, the one that holds best: the largest Ferrari–Canny ε, then the
-/// smallest gDist. Qualities of different movements use different formulas (Eq. 5.1 and 5.2)
-/// and are not compared.
-pub fn search(req: &Request) -> Result<(GraspResult, Duration), CliError> {
-    let names: Vec<&str> = if req.movement == "auto" {
-        let authored: Vec<&str> = req
-            .hand
-            .movements()
-            .iter()
-            .map(|m| m.name())
-            .filter(|n| *n != "close")
-            .collect();
-        if authored.is_empty() {
-            vec!["close"]
-        } else {
-            authored
-        }
-    } else {
-        vec![req.movement]
-    };
+/// Runs the request (every movement for `auto`, see [`find_grasp`]) with a spinner on the
+/// terminal when `progress`, and returns the chosen result with the wall time it took.
+pub fn search(
+    hand: &HandModel,
+    object: &ObjectModel,
+    request: &GraspRequest,
+    progress: bool,
+) -> Result<(GraspResult, Duration), CliError> {
     let began = Instant::now();
-    let mut best: Option<GraspResult> = None;
-    for name in names {
-        let movement = req.hand.movement(name).ok_or_else(|| {
-            CliError(format!(
-                "hand '{}' has no movement '{name}'; it has {}, or use auto",
-                req.hand.name(),
-                req.hand
-                    .movements()
-                    .iter()
-                    .map(|m| m.name())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ))
-        })?;
-        let params = SearchParams {
-            seed: req.seed,
-            up: req.up,
-            weights: req.weights,
-            validity: req.validity,
-            contact_model: req.contact_model,
-            ..SearchParams::default()
-        };
-        let mut planner = GraspPlanner::new(req.hand, req.object, movement, req.shoulder, params)
-            .map_err(CliError::from_display)?;
-        let bar = if req.progress {
-            ProgressBar::new_spinner()
-        } else {
-            ProgressBar::hidden()
-        };
-        bar.set_style(ProgressStyle::with_template("{spinner} {msg}").expect("valid template"));
-        let mut sink = SpinnerSink {
-            bar,
-            movement: name.to_string(),
-            best: None,
-        };
-        match req.budget {
-            Some(b) => planner.run_for_into(b, &mut sink),
-            None => planner.run_to_end_into(&mut sink),
-        };
-        sink.bar.finish_and_clear();
-        let mut ws = Workspace::new(req.hand);
-        let result = GraspResult::from_planner(&planner, &mut ws);
-        let better = match &best {
-            None => true,
-            Some(b) => {
-                (result.valid, result.stability.epsilon, -result.terms.gdist)
-                    > (b.valid, b.stability.epsilon, -b.terms.gdist)
-            }
-        };
-        if better {
-            best = Some(result);
-        }
-    }
-    Ok((best.expect("at least one movement"), began.elapsed()))
+    let bar = if progress {
+        ProgressBar::new_spinner()
+    } else {
+        ProgressBar::hidden()
+    };
+    bar.set_style(ProgressStyle::with_template("{spinner} {msg}").expect("valid template"));
+    let mut sink = SpinnerSink {
+        bar,
+        movement: String::new(),
+        best: None,
+    };
+    let result = find_grasp(hand, object, request, &mut sink).map_err(CliError::from_display);
+    sink.bar.finish_and_clear();
+    Ok((result?, began.elapsed()))
 }
 
 /// Keyframes of the result: approach from 10 cm back over one second, close over one second.
@@ -235,32 +158,32 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
         }
         None => None,
     };
-    let request = Request {
-        hand: &hand,
-        object: &object,
-        movement: &args.movement,
+    let request = GraspRequest {
+        movement: args.movement.clone(),
         shoulder,
-        up,
-        seed: args.seed,
-        budget,
-        weights: args
-            .weights
-            .map(|[gdist, fdist, tdist, wdist, stability]| QualityWeights {
-                gdist,
-                fdist,
-                tdist,
-                wdist,
-                stability,
-            }),
-        validity: args.validity,
-        contact_model: ContactModel {
-            friction: args.friction,
-            ..ContactModel::default()
+        params: SearchParams {
+            seed: args.seed,
+            up,
+            weights: args
+                .weights
+                .map(|[gdist, fdist, tdist, wdist, stability]| QualityWeights {
+                    gdist,
+                    fdist,
+                    tdist,
+                    wdist,
+                    stability,
+                }),
+            validity: args.validity,
+            contact_model: ContactModel {
+                friction: args.friction,
+                ..ContactModel::default()
+            },
+            ..SearchParams::default()
         },
-        progress: true,
+        budget,
     };
     let setup_ms = setup.elapsed().as_secs_f64() * 1e3;
-    let (result, took) = search(&request)?;
+    let (result, took) = search(&hand, &object, &request, true)?;
     let hold = if args.hold {
         Some(hold_test(&hand, &object, &result)?)
     } else {

@@ -1,6 +1,7 @@
 //! The pose search (thesis ch. 5–6): hand positioning around a hook, quality, the optimization
 //! steps with random angles, the initial approximation and an anytime planner.
 
+pub mod find_grasp;
 pub mod initial_approximation;
 pub mod optimization_step;
 pub mod planner;
@@ -11,6 +12,7 @@ pub mod start_position;
 pub mod translate_to_free;
 pub mod wrist_range;
 
+pub use find_grasp::{better_grasp, find_grasp, movements_to_try, GraspRequest, AUTO_MOVEMENT};
 pub use optimization_step::StepKind;
 pub use planner::{
     GraspPlanner, PlannerStatus, SearchError, SearchParams, SearchSink, SearchStats, StopRule,

@@ -100,6 +100,8 @@ pub trait SearchSink {
     fn step(&mut self, _stats: &SearchStats, _current: &Evaluation) {}
     /// When the best valid grasp improves.
     fn improved(&mut self, _best: &Evaluation) {}
+    /// Before the search of each movement a request tries.
+    fn movement_started(&mut self, _name: &str) {}
 }
 
 /// A sink that ignores everything.
@@ -134,6 +136,9 @@ pub enum SearchError {
     /// A parameter is NaN, negative or otherwise unusable.
     #[error("invalid parameter: {0}")]
     BadParameter(String),
+    /// The hand has no movement of the requested name (the message lists what it has).
+    #[error("{0}")]
+    UnknownMovement(String),
 }
 
 /// Whether the planner has more to do.

@@ -1,0 +1,117 @@
+//! `prehensile batch`: a grasp dataset over every combination of the inputs.
+
+use std::sync::Mutex;
+
+use indicatif::{ProgressBar, ProgressStyle};
+use prehensile_batch::{
+    expand_objects, run_batch, AttemptRow, AttemptStatus, BatchOptions, BatchPlan, BatchProgress,
+    Shoulder,
+};
+
+use crate::args::BatchArgs;
+use crate::CliError;
+
+/// A progress bar with the valid, invalid and error counts, and the time left.
+struct Bar {
+    bar: ProgressBar,
+    counts: Mutex<[usize; 3]>,
+}
+
+impl BatchProgress for Bar {
+    fn started(&self, total: usize, already_done: usize) {
+        self.bar.set_length(total as u64);
+        self.bar.set_position(already_done as u64);
+        self.bar.reset_eta();
+        if already_done > 0 {
+            self.bar.println(format!(
+                "resuming: {already_done} of {total} attempts are already in the dataset"
+            ));
+        }
+    }
+
+    fn attempt_done(&self, row: &AttemptRow) {
+        let mut counts = self.counts.lock().expect("not poisoned");
+        counts[match row.status {
+            AttemptStatus::Valid => 0,
+            AttemptStatus::Invalid => 1,
+            AttemptStatus::Error => 2,
+        }] += 1;
+        self.bar.set_message(format!(
+            "{} valid, {} invalid, {} errors",
+            counts[0], counts[1], counts[2]
+        ));
+        self.bar.inc(1);
+    }
+}
+
+/// Runs `prehensile batch`.
+pub fn run(args: &BatchArgs) -> Result<i32, CliError> {
+    if args.seeds == 0 || args.seeds > 1_000_000 {
+        return Err(CliError(format!(
+            "--seeds {}: give how many seeds to run, 1 to 1000000",
+            args.seeds
+        )));
+    }
+    let up = match args.up.as_str() {
+        "x" => 'x',
+        "y" => 'y',
+        "z" => 'z',
+        other => return Err(CliError(format!("--up {other}: use x, y or z"))),
+    };
+    let plan = BatchPlan {
+        hands: args.hands.clone(),
+        objects: expand_objects(&args.objects).map_err(CliError::from_display)?,
+        movements: args.movements.clone(),
+        shoulders: args
+            .shoulders
+            .iter()
+            .map(|s| Shoulder::parse(s))
+            .collect::<Result<_, _>>()
+            .map_err(CliError::from_display)?,
+        seeds: (1..=args.seeds).collect(),
+        options: BatchOptions {
+            scale: args.mesh_options.factor(),
+            weld: args.mesh_options.weld,
+            up,
+            validity: args.validity,
+            friction: args.friction,
+        },
+    };
+    let bar = ProgressBar::new(plan.attempt_count() as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{bar:30} {pos}/{len} attempts, {per_sec}, {eta} left: {msg}")
+            .expect("valid template"),
+    );
+    let progress = Bar {
+        bar,
+        counts: Mutex::new([0; 3]),
+    };
+    let mut pool = rayon::ThreadPoolBuilder::new();
+    if let Some(n) = args.threads {
+        if n == 0 || n > 4096 {
+            return Err(CliError(format!("--threads {n}: use 1 to 4096")));
+        }
+        pool = pool.num_threads(n);
+    }
+    let pool = pool.build().map_err(CliError::from_display)?;
+    let summary = pool
+        .install(|| run_batch(&plan, &args.out, args.flush_rows, &progress))
+        .map_err(CliError::from_display)?;
+    progress.bar.finish_and_clear();
+    out!(
+        "{} attempts in {}: this run made {} ({} valid, {} invalid, {} errors) in {} part file(s); {} were already there",
+        summary.total,
+        args.out.display(),
+        summary.ran,
+        summary.valid,
+        summary.invalid,
+        summary.errors,
+        summary.parts_written,
+        summary.already_done
+    );
+    out!(
+        "load it with: python3 -c \"import pandas; print(pandas.read_parquet('{}'))\"",
+        args.out.display()
+    );
+    Ok(0)
+}
