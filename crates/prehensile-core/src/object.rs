@@ -237,3 +237,39 @@ mod tests {
         assert_eq!(mug.hooks()[0], mug.center_of_mass());
     }
 }
+
+/// What `check` says about a mesh: its topology report, and what the grasp search will do with
+/// it (the same exact repairs and checks as [`ObjectModel::new`]).
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct MeshCheck {
+    /// Counts of triangles, vertices, open, non-manifold and flipped edges; volume and size.
+    #[serde(flatten)]
+    pub report: MeshReport,
+    /// Separate connected parts.
+    pub parts: usize,
+    /// Repairs the search makes before it accepts the mesh.
+    pub repairs: Vec<String>,
+    /// Whether the search accepts the mesh.
+    pub grasp_accepts: bool,
+    /// Why not, when not.
+    pub grasp_error: Option<String>,
+}
+
+impl MeshCheck {
+    /// Checks `mesh` (named `name` in messages).
+    pub fn new(name: &str, mesh: TriangleMesh) -> Self {
+        let report = mesh.report();
+        let parts = mesh.components().len();
+        let verdict = ObjectModel::new(name, mesh, None);
+        Self {
+            report,
+            parts,
+            repairs: verdict
+                .as_ref()
+                .map(|o| o.repairs().to_vec())
+                .unwrap_or_default(),
+            grasp_accepts: verdict.is_ok(),
+            grasp_error: verdict.err().map(|e| e.to_string()),
+        }
+    }
+}

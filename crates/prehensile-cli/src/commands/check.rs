@@ -19,29 +19,13 @@ pub fn run(args: &CheckArgs) -> Result<i32, CliError> {
         eprintln!("note: merged {merged} vertices closer than {w:.1e} m");
         mesh = welded;
     }
-    let report = mesh.report();
-    let parts = mesh.components().len();
-    // What `grasp` will do with it: the same exact repairs and checks (plausible size too).
     let name = args.mesh.display().to_string();
-    let verdict = prehensile_core::ObjectModel::new(&name, mesh, None);
-    let repairs: Vec<String> = verdict
-        .as_ref()
-        .map(|o| o.repairs().to_vec())
-        .unwrap_or_default();
+    let check = prehensile_core::object::MeshCheck::new(&name, mesh);
+    let (report, parts, repairs) = (&check.report, check.parts, &check.repairs);
     if args.json {
-        let mut value = serde_json::to_value(&report).map_err(CliError::from_display)?;
-        if let Some(map) = value.as_object_mut() {
-            map.insert("repairs".into(), serde_json::json!(repairs));
-            map.insert("parts".into(), serde_json::json!(parts));
-            map.insert("grasp_accepts".into(), serde_json::json!(verdict.is_ok()));
-            map.insert(
-                "grasp_error".into(),
-                serde_json::json!(verdict.as_ref().err().map(|e| e.to_string())),
-            );
-        }
         out!(
             "{}",
-            serde_json::to_string_pretty(&value).map_err(CliError::from_display)?
+            serde_json::to_string_pretty(&check).map_err(CliError::from_display)?
         );
     } else {
         out!("{}", args.mesh.display());
@@ -70,40 +54,40 @@ pub fn run(args: &CheckArgs) -> Result<i32, CliError> {
     }
     // Within what an object may be, but not what one hand holds: say so, with the likely units.
     let size = report.size.iter().copied().fold(0.0, f64::max);
-    if verdict.is_ok() && !(0.005..=2.0).contains(&size) {
+    if check.grasp_accepts && !(0.005..=2.0).contains(&size) {
         eprintln!(
             "note: {name}: {size:.3} m across is {} for an object held in one hand. {}",
             if size > 2.0 { "large" } else { "small" },
             prehensile_core::object::units_hint(size)
         );
     }
-    match verdict {
-        Ok(_) => {
-            for d in &report.defects {
-                eprintln!("note: {name}: {d}");
+    if check.grasp_accepts {
+        for d in &report.defects {
+            eprintln!("note: {name}: {d}");
+        }
+        for r in repairs {
+            eprintln!("repair: {name}: {r}");
+        }
+        eprintln!(
+            "{name}: prehensile grasp accepts this mesh{}",
+            if repairs.is_empty() {
+                ""
+            } else {
+                " after the repairs above"
             }
-            for r in &repairs {
-                eprintln!("repair: {name}: {r}");
-            }
+        );
+        Ok(0)
+    } else {
+        for d in &report.defects {
+            eprintln!("error: {name}: {d}");
+        }
+        if report.defects.is_empty() {
             eprintln!(
-                "{name}: prehensile grasp accepts this mesh{}",
-                if repairs.is_empty() {
-                    ""
-                } else {
-                    " after the repairs above"
-                }
+                "error: {name}: {}",
+                check.grasp_error.as_deref().unwrap_or("refused")
             );
-            Ok(0)
         }
-        Err(e) => {
-            for d in &report.defects {
-                eprintln!("error: {name}: {d}");
-            }
-            if report.defects.is_empty() {
-                eprintln!("error: {name}: {e}");
-            }
-            eprintln!("{name}: prehensile grasp refuses this mesh");
-            Ok(2)
-        }
+        eprintln!("{name}: prehensile grasp refuses this mesh");
+        Ok(2)
     }
 }

@@ -185,7 +185,10 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
     let setup_ms = setup.elapsed().as_secs_f64() * 1e3;
     let (result, took) = search(&hand, &object, &request, true)?;
     let hold = if args.hold {
-        Some(hold_test(&hand, &object, &result)?)
+        Some(
+            prehensile_sim::scenarios::hold_test_of_result(&hand, &object, &result)
+                .map_err(CliError::from_display)?,
+        )
     } else {
         None
     };
@@ -265,22 +268,4 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
         );
     }
     Ok(if result.valid { 0 } else { 1 })
-}
-
-/// Runs the rapier hold test of the found grasp (gravity along each axis direction).
-fn hold_test(
-    hand: &HandModel,
-    object: &ObjectModel,
-    result: &GraspResult,
-) -> Result<prehensile_sim::scenarios::HoldReport, CliError> {
-    use prehensile_sim::scenarios::{hold_test, PlannedGrasp, HOLD_ALPHA};
-    let grasp = PlannedGrasp::from_result(hand, result).map_err(CliError::from_display)?;
-    hold_test(
-        hand,
-        object,
-        &grasp,
-        prehensile_sim::Settings::default(),
-        HOLD_ALPHA,
-    )
-    .map_err(CliError::from_display)
 }

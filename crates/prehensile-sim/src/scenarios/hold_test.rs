@@ -133,3 +133,14 @@ pub fn hold_test(
     }
     Ok(report)
 }
+
+/// The hold test of a search result with the default world and grip strength [`HOLD_ALPHA`]:
+/// what `prehensile grasp --hold` and the Python package's `grasp(..., hold=True)` run.
+pub fn hold_test_of_result(
+    hand: &HandModel,
+    object: &ObjectModel,
+    result: &prehensile_core::search::GraspResult,
+) -> Result<HoldReport, SimError> {
+    let grasp = PlannedGrasp::from_result(hand, result)?;
+    hold_test(hand, object, &grasp, Settings::default(), HOLD_ALPHA)
+}

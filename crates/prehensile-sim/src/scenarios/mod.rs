@@ -25,7 +25,8 @@ use crate::SimError;
 pub use grasp_plan::{grasp_arm, plan_grasp, GraspTimes, PlannedGrasp, APPROACH, LIFT};
 pub use held_still::held_still;
 pub use hold_test::{
-    hold_test, HoldDirection, HoldReport, HOLD_ALPHA, HOLD_MOVE, HOLD_SECONDS, HOLD_TURN_DEGREES,
+    hold_test, hold_test_of_result, HoldDirection, HoldReport, HOLD_ALPHA, HOLD_MOVE, HOLD_SECONDS,
+    HOLD_TURN_DEGREES,
 };
 
 /// Schema name of run reports.

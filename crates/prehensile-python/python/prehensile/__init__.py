@@ -1,0 +1,48 @@
+"""Grasp poses for virtual hands, and physically simulated grasping.
+
+The same library as the ``prehensile`` command-line tool (same defaults, same messages):
+
+>>> import prehensile
+>>> result = prehensile.grasp("human", "mug")
+>>> result.valid, result.movement, result.joint_angles.shape
+(True, 'power', (24,))
+
+- :class:`Hand` and :class:`Object` load built-in models, files, or (objects) numpy arrays;
+- :func:`grasp` searches a grasp (every option of ``prehensile grasp``);
+- :class:`Planner` is the anytime planner for interactive loops;
+- :func:`simulate` runs the Pollard & Zordan controller in the rapier world;
+- :func:`batch` writes a resumable Parquet dataset (``prehensile batch``), and
+  :mod:`prehensile.ray_batch` shards one over a Ray cluster;
+- :func:`check` reports on a mesh file.
+
+Searches and simulations release the GIL. Errors raise :class:`PrehensileError`.
+"""
+from ._prehensile import (
+    GraspResultPy as GraspResult,
+    Hand,
+    Object,
+    Planner,
+    PrehensileError,
+    __version__,
+    batch,
+    builtins,
+    check,
+    expand_objects,
+    grasp,
+    simulate,
+)
+
+__all__ = [
+    "GraspResult",
+    "Hand",
+    "Object",
+    "Planner",
+    "PrehensileError",
+    "__version__",
+    "batch",
+    "builtins",
+    "check",
+    "expand_objects",
+    "grasp",
+    "simulate",
+]

@@ -1,0 +1,182 @@
+"""The Python package against the CLI and itself: same results, numpy in and out, errors with
+the CLI's messages, the GIL released, datasets that pandas loads, Ray giving the same rows."""
+import json
+import os
+import subprocess
+import threading
+
+import numpy as np
+import pytest
+
+import prehensile
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", "..", ".."))
+CLI = os.path.join(ROOT, "target", "release", "prehensile")
+
+
+def without_timings(result):
+    result["stats"].pop("seconds")
+    return result
+
+
+def test_a_grasp_is_the_clis_grasp(tmp_path):
+    assert os.path.exists(CLI), f"build the CLI first: cargo build --release ({CLI})"
+    out = tmp_path / "r.json"
+    subprocess.run([CLI, "grasp", "--hand", "human", "--object", "mug", "--seed", "2",
+                    "--out", str(out)], check=True, capture_output=True)
+    from_cli = without_timings(json.loads(out.read_text()))
+    from_python = without_timings(prehensile.grasp("human", "mug", seed=2).to_dict())
+    assert from_python == from_cli
+
+
+def test_results_come_as_numpy_arrays():
+    hand = prehensile.Hand("human")
+    result = prehensile.grasp(hand, prehensile.Object("box"), "power", seed=1)
+    assert result.valid, result.invalid_reason
+    assert result.joint_angles.shape == (len(hand.joint_names),)
+    assert result.joint_names == hand.joint_names
+    assert result.bone_positions.shape == (len(hand.bone_names), 3)
+    rotations = result.bone_rotations_xyzw
+    assert np.allclose(np.linalg.norm(rotations, axis=1), 1.0)
+    assert result.contact_points.shape == result.contact_normals.shape
+    assert np.allclose(np.linalg.norm(result.contact_normals, axis=1), 1.0)
+    assert result.stability["force_closure"] is True
+    limits = hand.joint_limits
+    assert np.all(result.joint_angles >= limits[:, 0] - 1e-9)
+    assert np.all(result.joint_angles <= limits[:, 1] + 1e-9)
+
+
+def test_an_object_from_arrays_grasps_like_the_same_object_from_its_name():
+    mug = prehensile.Object("mug")
+    again = prehensile.Object.from_arrays(mug.vertices, mug.faces.astype(np.int64), name="mug")
+    assert np.allclose(again.hooks, mug.hooks)
+    a = without_timings(prehensile.grasp("human", mug, seed=3).to_dict())
+    b = without_timings(prehensile.grasp("human", again, seed=3).to_dict())
+    assert a == b
+    # Millimetres are scaled like the CLI's --units mm.
+    small = prehensile.Object.from_arrays(mug.vertices * 1000, mug.faces.astype(np.int64),
+                                          units="mm")
+    assert small.volume == pytest.approx(mug.volume, rel=1e-9)
+
+
+def test_bad_inputs_raise_with_the_clis_messages(tmp_path):
+    with pytest.raises(prehensile.PrehensileError, match="did you mean 'human'"):
+        prehensile.Hand("humna")
+    with pytest.raises(prehensile.PrehensileError, match="has no movement 'wave'"):
+        prehensile.grasp("human", "sphere", "wave")
+    broken = tmp_path / "broken.obj"
+    broken.write_text("v 0 0 0\nf 1 2 3\n")
+    with pytest.raises(prehensile.PrehensileError, match="broken.obj"):
+        prehensile.Object(str(broken))
+    with pytest.raises(prehensile.PrehensileError, match="vertex 7"):
+        prehensile.Object.from_arrays(np.zeros((3, 3)), np.array([[0, 1, 7]]))
+    with pytest.raises(prehensile.PrehensileError, match="not finite|NaN|infinite"):
+        prehensile.Object.from_arrays(np.array([[0, 0, 0], [1, 0, 0], [np.nan, 1, 0]]),
+                                      np.array([[0, 1, 2]]))
+    with pytest.raises(prehensile.PrehensileError, match="weights"):
+        prehensile.grasp("human", "sphere", weights=[1, 2])
+    with pytest.raises(prehensile.PrehensileError, match="budget_ms"):
+        prehensile.grasp("human", "sphere", budget_ms=float("inf"))
+
+
+def test_the_search_releases_the_gil():
+    done = threading.Event()
+
+    def search():
+        prehensile.grasp("human", "mug", seed=1)
+        done.set()
+
+    worker = threading.Thread(target=search)
+    ticks = 0
+    worker.start()
+    while not done.is_set():
+        ticks += 1
+    worker.join()
+    # With the GIL held for the whole search this loop could not run while it lasts.
+    assert ticks > 10_000, ticks
+
+
+def test_the_planner_runs_step_by_step_and_restarts_when_the_shoulder_moves():
+    planner = prehensile.Planner("human", "box", "power", seed=1)
+    assert planner.status == "searching"
+    assert planner.step() in ("searching", "converged")
+    assert planner.run_to_end() in ("converged", "step_limit")
+    best = planner.best()
+    assert best is not None and best.valid
+    steps = planner.stats["steps"]
+    assert steps >= 2
+    # Moving the shoulder to the other side of the hook makes the hand turn far: the search
+    # restarts (§6.5.6). A small move only re-evaluates.
+    record = planner.result().to_dict()
+    hook, shoulder = np.array(record["hook"]), np.array(record["shoulder"])
+    assert planner.set_shoulder(list(shoulder + [0.0, 0.0, 0.01])) is False
+    opposite = 2 * hook - shoulder
+    opposite[2] = shoulder[2]
+    assert planner.set_shoulder(list(opposite)) is True
+    assert planner.status == "searching"
+    with pytest.raises(prehensile.PrehensileError, match="auto"):
+        prehensile.Planner("human", "box", "auto")
+
+
+def test_check_reports_like_the_cli():
+    milk = os.path.join(ROOT, "assets", "objects", "robosuite_milk.stl")
+    cli = json.loads(subprocess.run([CLI, "check", milk, "--json"], capture_output=True,
+                                    check=True, text=True).stdout)
+    assert prehensile.check(milk) == cli
+    assert cli["grasp_accepts"] and cli["repairs"]
+
+
+def test_simulate_holds_the_sphere():
+    report = prehensile.simulate("grasp", objects=["sphere"])
+    assert report["finite"]
+    assert report["cases"][0]["held"] is True
+
+
+def test_a_batch_dataset_loads_in_pandas_and_resumes(tmp_path):
+    pandas = pytest.importorskip("pandas")
+    out = tmp_path / "grasps"
+    summary = prehensile.batch(str(out), hands=["human", "robot3"], objects=["sphere", "box"],
+                               seeds=2)
+    assert summary["ran"] == 8 and summary["errors"] == 0
+    table = pandas.read_parquet(out)
+    assert len(table) == 8
+    assert not table.duplicated(["hand", "object", "movement_requested", "shoulder_choice",
+                                 "seed"]).any()
+    assert set(table.status) <= {"valid", "invalid"}
+    assert all(len(a) == len(n) for a, n in zip(table.joint_angles, table.joint_names))
+    again = prehensile.batch(str(out), hands=["human", "robot3"], objects=["sphere", "box"],
+                             seeds=2)
+    assert again["ran"] == 0 and again["already_done"] == 8
+
+
+def test_ray_gives_the_same_rows_as_the_batch(tmp_path):
+    if os.environ.get("PREHENSILE_REQUIRE_RAY") != "1":
+        pytest.importorskip("ray")
+    import pandas
+    import ray
+
+    from prehensile import ray_batch
+
+    inputs = dict(hands=["human", "robot3"], objects=["sphere", "box", "cylinder"], seeds=2)
+    single = tmp_path / "single"
+    prehensile.batch(str(single), **inputs)
+    ray.init(num_cpus=2, include_dashboard=False)
+    try:
+        sharded = tmp_path / "ray"
+        summary = ray_batch.run(out=str(sharded), progress=False, **inputs)
+        assert summary["ran"] == 6 and not summary["failed"]
+        again = ray_batch.run(out=str(sharded), progress=False, **inputs)
+        assert again["ran"] == 0 and again["already_done"] == 6
+    finally:
+        ray.shutdown()
+    key = ["hand", "object", "movement_requested", "shoulder_choice", "seed"]
+    timings = ["setup_seconds", "search_seconds"]
+
+    def rows(folder):
+        table = pandas.read_parquet(folder).drop(columns=timings)
+        table = table.sort_values(key).reset_index(drop=True)
+        return table.map(lambda v: v.tolist() if isinstance(v, np.ndarray) else v)
+
+    a, b = rows(single), rows(sharded)
+    assert len(a) == 12
+    pandas.testing.assert_frame_equal(a, b)
