@@ -241,3 +241,42 @@ fn a_folder_made_with_other_inputs_is_not_mixed_into() {
     let err = String::from_utf8_lossy(&third.stderr);
     assert!(err.contains("thesis.pdf"), "{err}");
 }
+
+#[test]
+fn a_dataset_folder_that_vanishes_mid_run_stops_the_batch_with_a_message() {
+    let out = scratch("vanish");
+    let mut child = batch(&[
+        "--objects",
+        "sphere",
+        "box",
+        "cylinder",
+        "--seeds",
+        "6",
+        "--flush-rows",
+        "1",
+        "--threads",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ])
+    .stdout(Stdio::null())
+    .stderr(Stdio::piped())
+    .spawn()
+    .unwrap();
+    let began = Instant::now();
+    while parts(&out) < 1 && began.elapsed() < Duration::from_secs(120) {
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    // As a full disk or a lost mount would: the next part cannot be written. (The writer may
+    // add a file while the folder is being removed; try again until it is gone.)
+    while std::fs::remove_dir_all(&out).is_err() {
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    let output = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("part-0000") && err.contains("No such file") && !err.contains("panicked"),
+        "{err}"
+    );
+}

@@ -36,3 +36,56 @@ proptest! {
         })?;
     }
 }
+
+/// The distance grid fills itself on first use: setting an object up computes no node, a whole
+/// grasp search reads only part of the grid, and threads sharing one object agree with a
+/// thread that has it alone.
+#[test]
+fn the_grid_fills_lazily_and_threads_sharing_it_agree() {
+    use prehensile_core::search::{GraspPlanner, GraspResult, SearchParams};
+    use prehensile_core::Workspace;
+    let object = common::object("mug");
+    let grid = object.collider().grid();
+    assert_eq!(grid.filled_nodes(), 0);
+    let hand = prehensile_formats::builtin_hand("human").unwrap();
+    let search = |object: &prehensile_core::ObjectModel, seed: u64| {
+        let mut planner = GraspPlanner::new(
+            &hand,
+            object,
+            hand.movement("power").unwrap(),
+            Point3::new(-0.35, -0.2, 0.35),
+            SearchParams {
+                seed,
+                ..SearchParams::default()
+            },
+        )
+        .unwrap();
+        planner.run_to_end();
+        serde_json::to_value(GraspResult::from_planner(&planner, &mut Workspace::new(&hand)))
+            .map(|mut v| {
+                v["stats"]["seconds"] = 0.0.into();
+                v
+            })
+            .unwrap()
+    };
+    let alone: Vec<_> = (1..=4)
+        .map(|seed| search(&common::object("mug"), seed))
+        .collect();
+    let shared: Vec<_> = std::thread::scope(|s| {
+        let handles: Vec<_> = (1..=4)
+            .map(|seed| {
+                let object = &object;
+                let search = &search;
+                s.spawn(move || search(object, seed))
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    });
+    assert_eq!(alone, shared);
+    let filled = grid.filled_nodes();
+    assert!(
+        filled > 0 && filled < grid.node_count() / 2,
+        "four searches filled {filled} of {} nodes",
+        grid.node_count()
+    );
+}

@@ -396,6 +396,25 @@ impl GraspResultPy {
             .into_pyarray(py)
     }
 
+    /// The hand's capsules: first ends, metres, shape (capsules, 3).
+    #[getter]
+    fn capsule_starts<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        points(py, self.result.capsules.iter().map(|c| c.a))
+    }
+
+    /// The hand's capsules: second ends, metres, shape (capsules, 3).
+    #[getter]
+    fn capsule_ends<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        points(py, self.result.capsules.iter().map(|c| c.b))
+    }
+
+    /// The hand's capsules: radii, metres.
+    #[getter]
+    fn capsule_radii<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        let r: Vec<f64> = self.result.capsules.iter().map(|c| c.radius).collect();
+        r.into_pyarray(py)
+    }
+
     /// Contact points on the object's surface, metres, shape (contacts, 3).
     #[getter]
     fn contact_points<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {

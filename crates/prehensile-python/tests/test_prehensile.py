@@ -39,6 +39,9 @@ def test_results_come_as_numpy_arrays():
     rotations = result.bone_rotations_xyzw
     assert np.allclose(np.linalg.norm(rotations, axis=1), 1.0)
     assert result.contact_points.shape == result.contact_normals.shape
+    record = result.to_dict()
+    assert result.capsule_starts.shape == result.capsule_ends.shape == (len(record["capsules"]), 3)
+    assert np.allclose(result.capsule_radii, [c["radius"] for c in record["capsules"]])
     assert np.allclose(np.linalg.norm(result.contact_normals, axis=1), 1.0)
     assert result.stability["force_closure"] is True
     limits = hand.joint_limits
@@ -180,3 +183,36 @@ def test_ray_gives_the_same_rows_as_the_batch(tmp_path):
     a, b = rows(single), rows(sharded)
     assert len(a) == 12
     pandas.testing.assert_frame_equal(a, b)
+
+
+def test_a_ray_worker_that_dies_is_recorded_and_a_rerun_finishes(tmp_path, monkeypatch):
+    if os.environ.get("PREHENSILE_REQUIRE_RAY") != "1":
+        pytest.importorskip("ray")
+    import ray
+
+    from prehensile import ray_batch
+
+    real = ray_batch._run_shard
+
+    def dies_on_the_box(hand, obj, settings):
+        if obj == "box":
+            os._exit(1)  # the worker process dies mid-task
+        return real(hand, obj, settings)
+
+    inputs = dict(hands=["robot3"], objects=["sphere", "box"], seeds=1)
+    out = tmp_path / "ray"
+    ray.init(num_cpus=2, include_dashboard=False)
+    try:
+        monkeypatch.setattr(ray_batch, "_run_shard", dies_on_the_box)
+        first = ray_batch.run(out=str(out), progress=False, max_retries=0, **inputs)
+        assert [f["object"] for f in first["failed"]] == ["box"]
+        assert (out / "_failed_shards.json").exists()
+        monkeypatch.setattr(ray_batch, "_run_shard", real)
+        second = ray_batch.run(out=str(out), progress=False, **inputs)
+        assert second["ran"] == 1 and second["already_done"] == 1 and not second["failed"]
+        assert not (out / "_failed_shards.json").exists()
+    finally:
+        ray.shutdown()
+    import pandas
+
+    assert sorted(pandas.read_parquet(out).object) == ["box", "sphere"]

@@ -48,7 +48,7 @@ impl MeshCollider {
     pub fn new(mesh: &TriangleMesh, margin: f64) -> Self {
         let exact = TriangleBvh::new(mesh);
         let (lo, hi) = mesh.bounds();
-        let fast = SignedDistanceGrid::new(&exact, lo, hi, margin);
+        let fast = SignedDistanceGrid::new(lo, hi, margin);
         Self { exact, fast }
     }
 
@@ -62,10 +62,19 @@ impl MeshCollider {
         &self.fast
     }
 
+    /// An upper bound on the smallest signed distance along segment `a–b` (+∞ when the grid
+    /// cannot bound it), from the distance grid.
+    pub fn segment_clearance_upper_bound(&self, a: &Point3, b: &Point3) -> f64 {
+        self.fast.segment_clearance_upper_bound(&self.exact, a, b)
+    }
+
     /// Fast test, same answer as the exact one: does the capsule touch or lie inside the object?
     pub fn capsule_touches(&self, capsule: &Capsule, counters: &mut CollisionCounters) -> bool {
         counters.queries += 1;
-        match self.fast.decide(&capsule.a, &capsule.b, capsule.radius) {
+        match self
+            .fast
+            .decide(&self.exact, &capsule.a, &capsule.b, capsule.radius)
+        {
             Decision::Touches => true,
             Decision::Free => false,
             Decision::Unsure { from, to, outside } => {

@@ -258,11 +258,6 @@ impl TriangleBvh {
         }
     }
 
-    /// Corners of triangle `t`.
-    pub(crate) fn triangle(&self, t: usize) -> &[Point3; 3] {
-        &self.corners[t]
-    }
-
     /// True when some triangle lies within `radius` of segment `a–b` (the capsule touches the
     /// surface). Does not detect a capsule wholly inside; see [`TriangleBvh::capsule_touches`].
     pub fn segment_within(&self, a: &Point3, b: &Point3, radius: f64) -> bool {

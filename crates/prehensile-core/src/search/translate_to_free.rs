@@ -144,12 +144,12 @@ pub fn translate_to_free(
 /// A lower bound on how far the hand, posed in `ws`, must still move to be free: the largest
 /// `radius − clearance upper bound` over its capsules.
 fn distance_still_to_go(hand: &HandModel, object: &ObjectModel, ws: &Workspace) -> f64 {
-    let grid = object.collider().grid();
+    let collider = object.collider();
     hand.capsules()
         .iter()
         .map(|c| {
             let w = ws.world[c.bone];
-            c.radius - grid.segment_clearance_upper_bound(&(w * c.a), &(w * c.b))
+            c.radius - collider.segment_clearance_upper_bound(&(w * c.a), &(w * c.b))
         })
         .fold(0.0, f64::max)
 }
