@@ -245,7 +245,7 @@ fn a_folder_made_with_other_inputs_is_not_mixed_into() {
 #[test]
 fn a_dataset_folder_that_vanishes_mid_run_stops_the_batch_with_a_message() {
     let out = scratch("vanish");
-    let mut child = batch(&[
+    let child = batch(&[
         "--objects",
         "sphere",
         "box",

@@ -61,12 +61,15 @@ fn the_grid_fills_lazily_and_threads_sharing_it_agree() {
         )
         .unwrap();
         planner.run_to_end();
-        serde_json::to_value(GraspResult::from_planner(&planner, &mut Workspace::new(&hand)))
-            .map(|mut v| {
-                v["stats"]["seconds"] = 0.0.into();
-                v
-            })
-            .unwrap()
+        serde_json::to_value(GraspResult::from_planner(
+            &planner,
+            &mut Workspace::new(&hand),
+        ))
+        .map(|mut v| {
+            v["stats"]["seconds"] = 0.0.into();
+            v
+        })
+        .unwrap()
     };
     let alone: Vec<_> = (1..=4)
         .map(|seed| search(&common::object("mug"), seed))

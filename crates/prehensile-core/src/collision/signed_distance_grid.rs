@@ -111,7 +111,8 @@ impl SignedDistanceGrid {
         if bits != UNFILLED {
             return f32::from_bits(bits);
         }
-        let node = self.origin + Vec3::new(idx[0] as f64, idx[1] as f64, idx[2] as f64) * self.spacing;
+        let node =
+            self.origin + Vec3::new(idx[0] as f64, idx[1] as f64, idx[2] as f64) * self.spacing;
         let value = exact.signed_distance(&node) as f32;
         slot.store(value.to_bits(), Ordering::Relaxed);
         value
