@@ -14,11 +14,11 @@ use prehensile_core::math::{Point3, Vec3};
 use prehensile_core::mesh::TriangleMesh;
 use prehensile_core::object::MeshCheck;
 use prehensile_core::search::{
-    default_shoulder, find_grasp, GraspPlanner, GraspRequest, GraspResult, PlannerStatus,
-    QualityWeights, SearchParams, ValidityRule,
+    default_shoulder, find_grasp, GraspRequest, GraspResult, PlannerStatus, QualityWeights,
+    SearchParams, SharedPlanner, ValidityRule,
 };
 use prehensile_core::stability::ContactModel;
-use prehensile_core::{HandModel, ObjectModel, Workspace};
+use prehensile_core::{HandModel, ObjectModel};
 use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -646,25 +646,12 @@ fn check<'py>(py: Python<'py>, path: &str, units: &str, scale: f64) -> PyResult<
     to_python(py, &check)
 }
 
-struct PlannerOwner {
-    hand: Arc<HandModel>,
-    object: Arc<ObjectModel>,
-}
-
-self_cell::self_cell!(
-    struct PlannerCell {
-        owner: PlannerOwner,
-        #[not_covariant]
-        dependent: GraspPlanner,
-    }
-);
-
 /// The anytime planner of one movement (thesis §5.1, §6.5.6): call `step()` or
 /// `run_for(ms)` from your loop and read `best()` whenever you like; `set_shoulder` moves the
 /// character (the search restarts when the hand would have to turn too far).
 #[pyclass(unsendable, module = "prehensile")]
 struct Planner {
-    cell: PlannerCell,
+    planner: SharedPlanner,
 }
 
 fn status_name(s: PlannerStatus) -> &'static str {
@@ -700,29 +687,14 @@ impl Planner {
         let shoulder = shoulder
             .map(Point3::from)
             .unwrap_or_else(|| default_shoulder(&hand, &object.hooks()[0], &params.up));
-        if hand.movement(movement).is_none() {
-            return Err(error(format!(
-                "hand '{}' has no movement '{movement}'; it has {} (the planner runs one movement; \
-                 grasp() tries each with 'auto')",
-                hand.name(),
-                hand.movements()
-                    .iter()
-                    .map(|m| m.name())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            )));
-        }
-        let cell = PlannerCell::try_new(PlannerOwner { hand, object }, |o| {
-            let m = o.hand.movement(movement).expect("checked above");
-            GraspPlanner::new(&o.hand, &o.object, m, shoulder, params)
-        })
-        .map_err(error)?;
-        Ok(Self { cell })
+        let planner = SharedPlanner::new(hand, object, movement, shoulder, params)
+            .map_err(|e| error(format!("{e}; grasp() tries every movement with 'auto'")))?;
+        Ok(Self { planner })
     }
 
     /// One optimization step; returns the status (`searching`, `converged`, `step_limit`).
     fn step(&mut self, py: Python<'_>) -> &'static str {
-        status_name(self.cell.with_dependent_mut(|_, p| py.detach(|| p.step())))
+        status_name(self.planner.with_mut(|p| py.detach(|| p.step())))
     }
 
     /// Steps for `ms` milliseconds of wall time; returns the status.
@@ -733,59 +705,51 @@ impl Planner {
             )));
         }
         let budget = Duration::from_secs_f64(ms / 1e3);
-        Ok(status_name(self.cell.with_dependent_mut(|_, p| {
-            py.detach(|| p.run_for(budget))
-        })))
+        Ok(status_name(
+            self.planner.with_mut(|p| py.detach(|| p.run_for(budget))),
+        ))
     }
 
     /// Steps until the stop rule holds; returns the status.
     fn run_to_end(&mut self, py: Python<'_>) -> &'static str {
-        status_name(
-            self.cell
-                .with_dependent_mut(|_, p| py.detach(|| p.run_to_end())),
-        )
+        status_name(self.planner.with_mut(|p| py.detach(|| p.run_to_end())))
     }
 
     /// Moves the shoulder; returns whether the search restarted.
     fn set_shoulder(&mut self, shoulder: [f64; 3]) -> PyResult<bool> {
-        self.cell
-            .with_dependent_mut(|_, p| p.set_shoulder(Point3::from(shoulder)))
+        self.planner
+            .with_mut(|p| p.set_shoulder(Point3::from(shoulder)))
             .map_err(error)
     }
 
     /// The planner's status.
     #[getter]
     fn status(&self) -> &'static str {
-        status_name(self.cell.with_dependent(|_, p| p.status()))
+        status_name(self.planner.with(|p| p.status()))
     }
 
     /// The best valid grasp so far, else None.
     fn best(&self) -> Option<GraspResultPy> {
-        self.cell.with_dependent(|o, p| {
-            p.best()?;
-            let mut ws = Workspace::new(&o.hand);
-            Some(GraspResultPy {
-                result: GraspResult::from_planner(p, &mut ws),
+        self.planner
+            .with(|p| p.best().is_some())
+            .then(|| GraspResultPy {
+                result: self.planner.result(),
                 hold: None,
             })
-        })
     }
 
     /// The best valid grasp so far, or the current pose marked not valid.
     fn result(&self) -> GraspResultPy {
-        self.cell.with_dependent(|o, p| {
-            let mut ws = Workspace::new(&o.hand);
-            GraspResultPy {
-                result: GraspResult::from_planner(p, &mut ws),
-                hold: None,
-            }
-        })
+        GraspResultPy {
+            result: self.planner.result(),
+            hold: None,
+        }
     }
 
     /// Search statistics, as a dict.
     #[getter]
     fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let stats = self.cell.with_dependent(|_, p| p.stats());
+        let stats = self.planner.with(|p| p.stats());
         to_python(py, &stats)
     }
 }

@@ -8,6 +8,7 @@ pub mod planner;
 pub mod quality;
 pub mod random;
 pub mod result;
+pub mod shared_planner;
 pub mod start_position;
 pub mod translate_to_free;
 pub mod wrist_range;
@@ -19,6 +20,7 @@ pub use planner::{
 };
 pub use quality::{Evaluation, Invalid, QualityTerms, QualityWeights, ValidityRule};
 pub use result::{GraspResult, RESULT_SCHEMA};
+pub use shared_planner::SharedPlanner;
 pub use start_position::default_shoulder;
 pub use translate_to_free::TranslateMode;
 pub use wrist_range::WristRange;

@@ -1,7 +1,10 @@
 //! The anytime planner (§5.1, §5.6, §6.5.6): advance one step or for a time budget, resume later,
 //! always hold the best valid pose so far, and restart when the character turns.
 
-use std::time::{Duration, Instant};
+use std::time::Duration;
+
+// `std::time::Instant` panics in the browser (wasm32); web-time is the same API on every target.
+use web_time::Instant;
 
 use crate::finger_closing::ClosingParams;
 use crate::hand::HandModel;

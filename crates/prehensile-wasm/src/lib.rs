@@ -1,0 +1,208 @@
+//! The grasp search in the browser: a [`Session`] holds a hand, an object and the anytime
+//! planner of one movement (thesis §5.1, §6.5.6). The page calls `run_for(ms)` once per
+//! animation frame with its frame budget, reads the best pose so far as JSON (the CLI's result
+//! schema, `prehensile.grasp/2`), and moves the shoulder or the object when the user drags them:
+//! the planner restarts when the hand would have to turn too far.
+//!
+//! The same library and the same seed give the same result as the native build (tested against
+//! the CLI from Node in CI).
+
+use std::sync::Arc;
+use std::time::Duration;
+
+use prehensile_core::math::Point3;
+use prehensile_core::mesh::TriangleMesh;
+use prehensile_core::search::{default_shoulder, PlannerStatus, SearchParams, SharedPlanner};
+use prehensile_core::{HandModel, ObjectModel};
+use wasm_bindgen::prelude::*;
+
+fn js(e: impl std::fmt::Display) -> JsError {
+    JsError::new(&e.to_string())
+}
+
+/// The built-in hand names, comma-separated.
+#[wasm_bindgen]
+pub fn builtin_hands() -> String {
+    prehensile_formats::BUILTIN_HANDS.join(",")
+}
+
+/// The built-in object names, comma-separated.
+#[wasm_bindgen]
+pub fn builtin_objects() -> String {
+    prehensile_core::shapes::BUILTIN_OBJECTS.join(",")
+}
+
+/// A hand, an object and a running search.
+#[wasm_bindgen]
+pub struct Session {
+    planner: SharedPlanner,
+    movement: String,
+    seed: u64,
+}
+
+fn object_named(name: &str) -> Result<ObjectModel, JsError> {
+    let mesh = prehensile_core::shapes::builtin_object(name).ok_or_else(|| {
+        js(format!(
+            "'{name}' is not a built-in object ({})",
+            builtin_objects()
+        ))
+    })?;
+    ObjectModel::new(name, mesh, None).map_err(js)
+}
+
+fn hand_named(name: &str) -> Result<HandModel, JsError> {
+    prehensile_formats::builtin_hand(name).ok_or_else(|| {
+        js(format!(
+            "'{name}' is not a built-in hand ({})",
+            builtin_hands()
+        ))
+    })
+}
+
+#[wasm_bindgen]
+impl Session {
+    /// A session of a built-in hand on a built-in object, searching `movement` with `seed`
+    /// from the hand's default shoulder.
+    #[wasm_bindgen(constructor)]
+    pub fn new(hand: &str, object: &str, movement: &str, seed: u64) -> Result<Session, JsError> {
+        Self::start(
+            Arc::new(hand_named(hand)?),
+            Arc::new(object_named(object)?),
+            movement,
+            seed,
+        )
+    }
+
+    /// A session on a mesh given as flat arrays: `positions` x, y, z in metres, `indices`
+    /// three per triangle (counter-clockwise from outside).
+    pub fn with_mesh(
+        hand: &str,
+        name: &str,
+        positions: &[f64],
+        indices: &[u32],
+        movement: &str,
+        seed: u64,
+    ) -> Result<Session, JsError> {
+        if positions.len() % 3 != 0 || indices.len() % 3 != 0 {
+            return Err(js("positions and indices must come in threes"));
+        }
+        let points: Vec<Point3> = positions
+            .chunks_exact(3)
+            .map(|p| Point3::new(p[0], p[1], p[2]))
+            .collect();
+        let mut triangles = Vec::with_capacity(indices.len() / 3);
+        for (i, t) in indices.chunks_exact(3).enumerate() {
+            if let Some(bad) = t.iter().find(|&&k| k as usize >= points.len()) {
+                return Err(js(format!(
+                    "{name}: triangle {i} names vertex {bad}, but there are {}",
+                    points.len()
+                )));
+            }
+            triangles.push([t[0] as usize, t[1] as usize, t[2] as usize]);
+        }
+        let mesh =
+            TriangleMesh::weld(&points, &triangles).map_err(|e| js(format!("{name}: {e}")))?;
+        let object = ObjectModel::new(name, mesh, None).map_err(|e| js(format!("{name}: {e}")))?;
+        Self::start(
+            Arc::new(hand_named(hand)?),
+            Arc::new(object),
+            movement,
+            seed,
+        )
+    }
+
+    fn start(
+        hand: Arc<HandModel>,
+        object: Arc<ObjectModel>,
+        movement: &str,
+        seed: u64,
+    ) -> Result<Session, JsError> {
+        let params = SearchParams {
+            seed,
+            ..SearchParams::default()
+        };
+        let shoulder = default_shoulder(&hand, &object.hooks()[0], &params.up);
+        let planner = SharedPlanner::new(hand, object, movement, shoulder, params).map_err(js)?;
+        Ok(Session {
+            planner,
+            movement: movement.to_string(),
+            seed,
+        })
+    }
+
+    /// Searches for `ms` milliseconds (at least one step, which after a restart includes the
+    /// initial approximation and may take longer); returns the status: `searching`,
+    /// `converged` or `step_limit`.
+    pub fn run_for(&mut self, ms: f64) -> String {
+        let budget = Duration::from_secs_f64((ms.clamp(0.0, 60_000.0)) / 1e3);
+        let status = self.planner.with_mut(|p| {
+            if p.status() == PlannerStatus::Searching {
+                p.run_for(budget)
+            } else {
+                p.status()
+            }
+        });
+        match status {
+            PlannerStatus::Searching => "searching",
+            PlannerStatus::Converged => "converged",
+            PlannerStatus::StepLimit => "step_limit",
+        }
+        .into()
+    }
+
+    /// Runs the search to its stop rule (for tests and non-interactive use).
+    pub fn run_to_end(&mut self) {
+        self.planner.with_mut(|p| p.run_to_end());
+    }
+
+    /// The best valid grasp so far, or the current pose marked not valid, as the CLI's JSON.
+    pub fn result_json(&self) -> Result<String, JsError> {
+        serde_json::to_string(&self.planner.result()).map_err(js)
+    }
+
+    /// Moves the shoulder (object frame, metres); returns whether the search restarted.
+    pub fn set_shoulder(&mut self, x: f64, y: f64, z: f64) -> Result<bool, JsError> {
+        self.planner
+            .with_mut(|p| p.set_shoulder(Point3::new(x, y, z)))
+            .map_err(js)
+    }
+
+    /// The shoulder, object frame: x, y, z.
+    pub fn shoulder(&self) -> Vec<f64> {
+        self.planner
+            .with(|p| p.context().shoulder.coords.as_slice().to_vec())
+    }
+
+    /// The object's vertices, flat x, y, z.
+    pub fn object_positions(&self) -> Vec<f32> {
+        self.planner
+            .object()
+            .mesh()
+            .vertices
+            .iter()
+            .flat_map(|v| [v.x as f32, v.y as f32, v.z as f32])
+            .collect()
+    }
+
+    /// The object's triangles, flat.
+    pub fn object_indices(&self) -> Vec<u32> {
+        self.planner
+            .object()
+            .mesh()
+            .triangles
+            .iter()
+            .flatten()
+            .copied()
+            .collect()
+    }
+
+    /// The movement searched.
+    pub fn movement(&self) -> String {
+        self.movement.clone()
+    }
+
+    /// The seed.
+    pub fn seed(&self) -> u64 {
+        self.seed
+    }
+}

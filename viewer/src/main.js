@@ -1,0 +1,182 @@
+// The grasp search live in the browser: the prehensile core compiled to WebAssembly runs a slice
+// of the anytime planner inside every animation frame (thesis §5.1, §6.1.2) and three.js draws
+// the best pose so far. `window.prehensile` exposes the state for tests and the console.
+import * as THREE from 'three';
+import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
+import { TransformControls } from 'three/examples/jsm/controls/TransformControls.js';
+import init, { Session, builtin_hands, builtin_objects } from '../pkg/prehensile_wasm.js';
+
+const $ = (id) => document.getElementById(id);
+const state = { status: 'loading', result: null, frameMs: 0, restarts: 0, error: null, session: null };
+window.prehensile = { state };
+
+await init({ module_or_path: new URL('prehensile_wasm_bg.wasm', import.meta.url) });
+
+for (const [id, names] of [['hand', builtin_hands()], ['object', builtin_objects()]]) {
+  for (const name of names.split(',')) $(id).append(new Option(name, name));
+}
+$('object').value = 'mug';
+
+// Scene: the object frame is z-up (the search's default), as is the three.js world here.
+THREE.Object3D.DEFAULT_UP.set(0, 0, 1);
+const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+renderer.setPixelRatio(window.devicePixelRatio);
+$('view').append(renderer.domElement);
+const scene = new THREE.Scene();
+scene.background = new THREE.Color(0xf4f4f2);
+const camera = new THREE.PerspectiveCamera(40, 1, 0.005, 20);
+camera.position.set(0.35, -0.45, 0.3);
+const orbit = new OrbitControls(camera, renderer.domElement);
+scene.add(new THREE.HemisphereLight(0xffffff, 0x888877, 2.2));
+const sun = new THREE.DirectionalLight(0xffffff, 1.6);
+sun.position.set(1, -1, 2);
+scene.add(sun);
+const grid = new THREE.GridHelper(1, 20, 0xcccccc, 0xe4e4e4);
+grid.rotation.x = Math.PI / 2;
+grid.position.z = -0.1;
+scene.add(grid);
+
+// The object group moves when dragged; the hand is drawn in the object's frame inside it.
+const objectGroup = new THREE.Group();
+scene.add(objectGroup);
+const handGroup = new THREE.Group();
+objectGroup.add(handGroup);
+const shoulderBall = new THREE.Mesh(new THREE.SphereGeometry(0.015), new THREE.MeshStandardMaterial({ color: 0xf08c00 }));
+scene.add(shoulderBall);
+const drag = new TransformControls(camera, renderer.domElement);
+drag.addEventListener('dragging-changed', (e) => { orbit.enabled = !e.value; });
+drag.addEventListener('objectChange', () => moved());
+scene.add(drag.getHelper ? drag.getHelper() : drag);
+renderer.domElement.addEventListener('dblclick', () => drag.attach(drag.object === objectGroup ? shoulderBall : objectGroup));
+
+const skin = new THREE.MeshStandardMaterial({ color: 0xd9a38b, roughness: 0.7 });
+const touching = new THREE.MeshStandardMaterial({ color: 0x3b82f6, roughness: 0.6 });
+
+function resize() {
+  const { clientWidth: w, clientHeight: h } = $('view');
+  renderer.setSize(w, h, false);
+  camera.aspect = w / h;
+  camera.updateProjectionMatrix();
+}
+window.addEventListener('resize', resize);
+resize();
+
+function showError(e) {
+  state.error = String(e?.message ?? e);
+  $('error').textContent = state.error;
+}
+
+function start() {
+  state.session?.free();
+  state.session = null;
+  state.result = null;
+  state.restarts = 0;
+  $('error').textContent = '';
+  state.error = null;
+  try {
+    state.session = new Session($('hand').value, $('object').value, $('movement').value, BigInt($('seed').value || 1));
+  } catch (e) {
+    showError(e);
+    return;
+  }
+  objectGroup.clear();
+  objectGroup.add(handGroup);
+  objectGroup.position.set(0, 0, 0);
+  const geometry = new THREE.BufferGeometry();
+  geometry.setAttribute('position', new THREE.BufferAttribute(state.session.object_positions(), 3));
+  geometry.setIndex(new THREE.BufferAttribute(state.session.object_indices(), 1));
+  geometry.computeVertexNormals();
+  objectGroup.add(new THREE.Mesh(geometry, new THREE.MeshStandardMaterial({ color: 0x9aa5b1, roughness: 0.5, metalness: 0.1 })));
+  const [x, y, z] = state.session.shoulder();
+  shoulderBall.position.set(x, y, z);
+  drag.attach(objectGroup);
+  state.status = 'searching';
+}
+
+// Dragging moves the shoulder relative to the object: the planner sees the shoulder in the
+// object's frame, and restarts when the reach direction turned too far.
+function moved() {
+  if (!state.session) return;
+  const p = shoulderBall.position.clone().sub(objectGroup.position);
+  try {
+    if (state.session.set_shoulder(p.x, p.y, p.z)) state.restarts += 1;
+    state.status = 'searching';
+  } catch (e) {
+    showError(e);
+  }
+}
+// What a drag of the object or of the shoulder ball does, callable from the console and tests.
+window.prehensile.moveObject = (dx, dy, dz) => { objectGroup.position.add(new THREE.Vector3(dx, dy, dz)); moved(); };
+window.prehensile.moveShoulder = (x, y, z) => { shoulderBall.position.set(x, y, z); moved(); };
+
+function capsuleMesh(c) {
+  const a = new THREE.Vector3(...c.a);
+  const b = new THREE.Vector3(...c.b);
+  const length = a.distanceTo(b);
+  const mesh = new THREE.Mesh(new THREE.CapsuleGeometry(c.radius, length, 4, 12), c.touching ? touching : skin);
+  mesh.position.copy(a).add(b).multiplyScalar(0.5);
+  if (length > 1e-9) mesh.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), b.clone().sub(a).normalize());
+  return mesh;
+}
+
+function drawResult(r) {
+  handGroup.traverse((o) => o.geometry?.dispose());
+  handGroup.clear();
+  if ($('capsules').checked) for (const c of r.capsules) handGroup.add(capsuleMesh(c));
+  const dot = new THREE.SphereGeometry(0.003);
+  const red = new THREE.MeshBasicMaterial({ color: 0xd92d20 });
+  for (const c of r.contacts) {
+    const m = new THREE.Mesh(dot, red);
+    m.position.set(...c.point);
+    handGroup.add(m);
+    const p = new THREE.Vector3(...c.point);
+    const n = new THREE.Vector3(...c.normal).multiplyScalar(0.02);
+    handGroup.add(new THREE.Line(new THREE.BufferGeometry().setFromPoints([p, p.clone().add(n)]), new THREE.LineBasicMaterial({ color: 0xd92d20 })));
+  }
+}
+
+function showInfo(r) {
+  const rows = [
+    ['status', `${state.status}${state.restarts ? `, ${state.restarts} restart(s)` : ''}`],
+    ['grasp', r.valid ? '<span class="valid">valid</span>' : `<span class="invalid">not valid</span>: ${r.invalid_reason ?? ''}`],
+    ['movement', r.movement],
+    ['quality', r.quality?.toFixed(4) ?? '−∞'],
+    ['fingers touching', r.fingers_touching.join(', ') || '—'],
+    ['force closure', r.stability.force_closure ? 'yes' : 'no'],
+    ['ε (Ferrari–Canny)', r.stability.epsilon.toFixed(4)],
+    ...Object.entries(r.terms).map(([k, v]) => [k, v.toFixed(4)]),
+    ['steps / poses', `${r.stats.steps} / ${r.stats.evaluations}`],
+    ['search per frame', `${state.frameMs.toFixed(2)} ms`],
+  ];
+  $('info').innerHTML = rows.map(([k, v]) => `<tr><td>${k}</td><td>${v}</td></tr>`).join('');
+}
+
+let lastSteps = -1;
+function frame() {
+  requestAnimationFrame(frame);
+  const s = state.session;
+  if (s && state.status === 'searching') {
+    const budget = Math.max(0.5, Number($('budget').value) || 4);
+    const t0 = performance.now();
+    try {
+      state.status = s.run_for(budget);
+      state.result = JSON.parse(s.result_json());
+    } catch (e) {
+      showError(e);
+      state.status = 'error';
+    }
+    state.frameMs = performance.now() - t0;
+  }
+  if (state.result && state.result.stats.steps !== lastSteps) {
+    lastSteps = state.result.stats.steps;
+    drawResult(state.result);
+    showInfo(state.result);
+  }
+  orbit.update();
+  renderer.render(scene, camera);
+}
+
+for (const id of ['hand', 'object', 'movement', 'seed']) $(id).addEventListener('change', start);
+$('capsules').addEventListener('change', () => state.result && drawResult(state.result));
+start();
+frame();

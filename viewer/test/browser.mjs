@@ -1,0 +1,78 @@
+// The viewer in a real browser (Debian's Chromium, headless, driven by playwright-core): the page
+// loads from viewer/dist, the live search finds a valid grasp, dragging the object makes the hand
+// re-grasp, screenshots are taken and are not blank, and the console stays free of errors.
+import assert from 'node:assert/strict';
+import fs from 'node:fs';
+import http from 'node:http';
+import path from 'node:path';
+import { chromium } from 'playwright-core';
+
+const root = new URL('../dist/', import.meta.url).pathname;
+const types = { '.html': 'text/html', '.js': 'text/javascript', '.wasm': 'application/wasm', '.map': 'application/json' };
+const server = http.createServer((req, res) => {
+  const file = path.join(root, decodeURIComponent(new URL(req.url, 'http://x').pathname).replace(/^\/$/, '/index.html'));
+  if (!file.startsWith(root) || !fs.existsSync(file)) { res.writeHead(404).end(); return; }
+  res.writeHead(200, { 'content-type': types[path.extname(file)] ?? 'application/octet-stream' });
+  fs.createReadStream(file).pipe(res);
+}).listen(0, '127.0.0.1');
+await new Promise((r) => server.once('listening', r));
+const url = `http://127.0.0.1:${server.address().port}/`;
+
+const out = process.argv[2] ?? 'target/viewer';
+fs.mkdirSync(out, { recursive: true });
+const browser = await chromium.launch({
+  executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
+  args: ['--no-sandbox', '--enable-unsafe-swiftshader', '--use-angle=swiftshader'],
+});
+const errors = [];
+try {
+  const page = await browser.newPage({ viewport: { width: 1100, height: 700 } });
+  page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
+  page.on('pageerror', (e) => errors.push(String(e)));
+  await page.goto(url);
+  await page.waitForFunction(() => window.prehensile?.state?.result?.valid === true, null, { timeout: 120_000 });
+  const first = await page.evaluate(() => window.prehensile.state.result);
+  console.log(`grasp found in the browser: ${first.movement} on ${first.object}, ${first.fingers_touching.join(', ')}`);
+  await page.screenshot({ path: `${out}/viewer-grasp.png` });
+
+  // Count the distinct colours of the rendered canvas: a blank or failed render has one or two.
+  const colours = () => page.evaluate(() => {
+    const gl = document.querySelector('canvas');
+    const c = document.createElement('canvas');
+    c.width = gl.width; c.height = gl.height;
+    const ctx = c.getContext('2d');
+    ctx.drawImage(gl, 0, 0);
+    const data = ctx.getImageData(0, 0, c.width, c.height).data;
+    const seen = new Set();
+    for (let i = 0; i < data.length; i += 16) seen.add((data[i] << 16) | (data[i + 1] << 8) | data[i + 2]);
+    return seen.size;
+  });
+  const n = await colours();
+  assert.ok(n > 50, `the canvas has only ${n} colours`);
+
+  // Drag the shoulder round to the other side of the object: the reach direction turns, the
+  // search restarts (§6.5.6) and finds a grasp again. (A small drag of the object only
+  // re-evaluates the current pose.)
+  await page.evaluate(() => window.prehensile.moveObject(0.005, 0, 0));
+  await page.evaluate(() => {
+    const [x, y, z] = window.prehensile.state.session.shoulder();
+    window.prehensile.moveShoulder(-x, -y, z);
+  });
+  await page.waitForFunction(() => window.prehensile.state.restarts >= 1, null, { timeout: 10_000 });
+  await page.waitForFunction(() => window.prehensile.state.status !== 'searching' && window.prehensile.state.result?.valid === true, null, { timeout: 120_000 });
+  const second = await page.evaluate(() => window.prehensile.state);
+  console.log(`re-grasped after the drag (${second.restarts} restart): ${second.result.fingers_touching.join(', ')}, ${second.frameMs.toFixed(2)} ms of search in the last frame`);
+  assert.notDeepStrictEqual(second.result.wrist, first.wrist);
+  await page.screenshot({ path: `${out}/viewer-regrasp.png` });
+  assert.ok((await colours()) > 50);
+
+  // A bad choice is reported on the page (not in the console, not silently).
+  await page.selectOption('#hand', 'robot3');
+  await page.selectOption('#movement', 'precision');
+  await page.waitForFunction(() => document.getElementById('error').textContent.includes('no movement'), null, { timeout: 10_000 });
+  assert.deepStrictEqual(errors, [], 'console errors');
+} finally {
+  await browser.close();
+  server.close();
+}
+console.log(`screenshots in ${out}/`);
