@@ -1,23 +1,19 @@
 // The viewer in a real browser (Debian's Chromium, headless, driven by playwright-core): the page
-// loads from viewer/dist, the live search finds a valid grasp, dragging the object makes the hand
+// loads from `prehensile view`, the live search finds a valid grasp, dragging the object makes the hand
 // re-grasp, screenshots are taken and are not blank, and the console stays free of errors.
 import assert from 'node:assert/strict';
 import fs from 'node:fs';
-import http from 'node:http';
-import path from 'node:path';
+import { spawn } from 'node:child_process';
 import { chromium } from 'playwright-core';
 
-const root = new URL('../dist/', import.meta.url).pathname;
-const types = { '.html': 'text/html', '.js': 'text/javascript', '.wasm': 'application/wasm', '.map': 'application/json' };
-const server = http.createServer((req, res) => {
-  const file = path.join(root, decodeURIComponent(new URL(req.url, 'http://x').pathname).replace(/^\/$/, '/index.html'));
-  if (!file.startsWith(root) || !fs.existsSync(file)) { res.writeHead(404).end(); return; }
-  res.writeHead(200, { 'content-type': types[path.extname(file)] ?? 'application/octet-stream' });
-  fs.createReadStream(file).pipe(res);
-}).listen(0, '127.0.0.1');
-await new Promise((r) => server.once('listening', r));
-const url = `http://127.0.0.1:${server.address().port}/`;
-
+// The page as a user gets it: served by `prehensile view` from viewer/dist.
+const cli = new URL('../../target/release/prehensile', import.meta.url).pathname;
+const dist = new URL('../dist', import.meta.url).pathname;
+const server = spawn(cli, ['view', '--dir', dist, '--port', '0'], { stdio: ['ignore', 'pipe', 'inherit'] });
+const url = await new Promise((resolve, reject) => {
+  server.stdout.on('data', (d) => { const m = /http:\/\/[0-9.:]+\//.exec(String(d)); if (m) resolve(m[0]); });
+  server.on('exit', (code) => reject(new Error(`prehensile view exited with ${code}`)));
+});
 const out = process.argv[2] ?? 'target/viewer';
 fs.mkdirSync(out, { recursive: true });
 const browser = await chromium.launch({
@@ -73,6 +69,6 @@ try {
   assert.deepStrictEqual(errors, [], 'console errors');
 } finally {
   await browser.close();
-  server.close();
+  server.kill();
 }
 console.log(`screenshots in ${out}/`);

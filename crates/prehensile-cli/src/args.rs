@@ -55,6 +55,19 @@ pub enum Command {
     /// Search every hand x object x movement x shoulder x seed on all cores and write a
     /// resumable Apache Parquet dataset (see docs/BATCH.md).
     Batch(BatchArgs),
+    /// Serve the browser viewer (live grasp search in WebAssembly) on a local port.
+    View(ViewArgs),
+}
+
+/// `prehensile view`.
+#[derive(Debug, Args)]
+pub struct ViewArgs {
+    /// The built viewer (`bash tools/viewer/build.sh` writes it).
+    #[arg(long, default_value = "viewer/dist")]
+    pub dir: PathBuf,
+    /// Port on 127.0.0.1 (0 picks a free one).
+    #[arg(long, default_value_t = 8000)]
+    pub port: u16,
 }
 
 /// `prehensile batch`.

@@ -46,6 +46,7 @@ fn main() {
         args::Command::Simulate(a) => commands::simulate::run(&a),
         args::Command::Fit(a) => commands::fit::run(&a),
         args::Command::Batch(a) => commands::batch::run(&a),
+        args::Command::View(a) => commands::view::run(&a),
     };
     match outcome {
         Ok(code) => std::process::exit(code),

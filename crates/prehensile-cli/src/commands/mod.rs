@@ -7,6 +7,7 @@ pub mod fit;
 pub mod grasp;
 pub mod hands;
 pub mod simulate;
+pub mod view;
 
 /// Writes `bytes` to `path`, creating its folder; the error names the path.
 pub fn write_file(path: &std::path::Path, bytes: &[u8]) -> Result<(), crate::CliError> {
