@@ -8,6 +8,8 @@ import init, { Session, builtin_hands, builtin_objects } from '../pkg/prehensile
 
 const $ = (id) => document.getElementById(id);
 const state = { status: 'loading', result: null, frameMs: 0, restarts: 0, error: null, session: null };
+// Where the hand and the object come from: a built-in name (bytes null) or a file the user gave.
+const sources = { hand: { name: 'human', bytes: null }, object: { name: 'mug', bytes: null } };
 window.prehensile = { state };
 
 await init({ module_or_path: new URL('prehensile_wasm_bg.wasm', import.meta.url) });
@@ -16,6 +18,7 @@ for (const [id, names] of [['hand', builtin_hands()], ['object', builtin_objects
   for (const name of names.split(',')) $(id).append(new Option(name, name));
 }
 $('object').value = 'mug';
+$('movement').append(new Option('power', 'power'));
 
 // Scene: the object frame is z-up (the search's default), as is the three.js world here.
 THREE.Object3D.DEFAULT_UP.set(0, 0, 1);
@@ -66,19 +69,24 @@ function showError(e) {
   $('error').textContent = state.error;
 }
 
-function start() {
+function start(movement = $('movement').value) {
+  let session;
+  try {
+    const none = new Uint8Array();
+    session = Session.open(sources.hand.name, sources.hand.bytes ?? none, sources.object.name,
+      sources.object.bytes ?? none, movement, BigInt($('seed').value || 1));
+  } catch (e) {
+    showError(e); // the page keeps what it had: the last session goes on being shown
+    return;
+  }
   state.session?.free();
-  state.session = null;
+  state.session = session;
   state.result = null;
   state.restarts = 0;
   $('error').textContent = '';
   state.error = null;
-  try {
-    state.session = new Session($('hand').value, $('object').value, $('movement').value, BigInt($('seed').value || 1));
-  } catch (e) {
-    showError(e);
-    return;
-  }
+  $('movement').replaceChildren(...session.hand_movements().split(',').map((m) => new Option(m, m)));
+  $('movement').value = session.movement();
   objectGroup.clear();
   objectGroup.add(handGroup);
   objectGroup.position.set(0, 0, 0);
@@ -176,7 +184,29 @@ function frame() {
   renderer.render(scene, camera);
 }
 
-for (const id of ['hand', 'object', 'movement', 'seed']) $(id).addEventListener('change', start);
+$('hand').addEventListener('change', () => { sources.hand = { name: $('hand').value, bytes: null }; start(''); });
+$('object').addEventListener('change', () => { sources.object = { name: $('object').value, bytes: null }; start(); });
+$('movement').addEventListener('change', () => start());
+$('seed').addEventListener('change', () => start());
+
+// The user's own files, from the file chooser or dropped on the view: meshes replace the
+// object, hand files the hand; what cannot be read is reported on the page.
+const MESHES = ['obj', 'stl', 'ply', 'glb'];
+const HANDS = ['toml', 'urdf', 'xml'];
+async function openFiles(files) {
+  let handChanged = false;
+  for (const file of files) {
+    const ext = file.name.split('.').pop().toLowerCase();
+    const bytes = new Uint8Array(await file.arrayBuffer());
+    if (MESHES.includes(ext)) sources.object = { name: file.name, bytes };
+    else if (HANDS.includes(ext)) { sources.hand = { name: file.name, bytes }; handChanged = true; }
+    else { showError(`${file.name}: not a mesh (${MESHES.join(', ')}) or hand file (${HANDS.join(', ')})`); return; }
+  }
+  start(handChanged ? '' : $('movement').value);
+}
+$('file').addEventListener('change', () => openFiles([...$('file').files]));
+$('view').addEventListener('dragover', (e) => e.preventDefault());
+$('view').addEventListener('drop', (e) => { e.preventDefault(); openFiles([...e.dataTransfer.files]); });
 $('capsules').addEventListener('change', () => state.result && drawResult(state.result));
 start();
 frame();

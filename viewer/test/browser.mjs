@@ -1,6 +1,7 @@
 // The viewer in a real browser (Debian's Chromium, headless, driven by playwright-core): the page
 // loads from `prehensile view`, the live search finds a valid grasp, dragging the object makes the hand
-// re-grasp, screenshots are taken and are not blank, and the console stays free of errors.
+// re-grasp, the user's own files are read (or refused with the CLI's message), screenshots are
+// taken and are not blank, and the console stays free of errors.
 import assert from 'node:assert/strict';
 import fs from 'node:fs';
 import { spawn } from 'node:child_process';
@@ -62,10 +63,19 @@ try {
   await page.screenshot({ path: `${out}/viewer-regrasp.png` });
   assert.ok((await colours()) > 50);
 
-  // A bad choice is reported on the page (not in the console, not silently).
-  await page.selectOption('#hand', 'robot3');
-  await page.selectOption('#movement', 'precision');
-  await page.waitForFunction(() => document.getElementById('error').textContent.includes('no movement'), null, { timeout: 10_000 });
+  // The user's own files: a broken mesh is refused on the page with the CLI's message and the
+  // last grasp stays; a good one (an 8 cm cube) is grasped.
+  await page.setInputFiles('#file', { name: 'broken.obj', mimeType: 'text/plain', buffer: Buffer.from('v 0 0 0\nv 1 0 0\nf 1 2 3\n') });
+  await page.waitForFunction(() => document.getElementById('error').textContent.includes('broken.obj'), null, { timeout: 10_000 });
+  console.log(`a broken mesh is refused: ${await page.textContent('#error')}`);
+  const s = 0.08;
+  const cube = [[0, 0, 0], [s, 0, 0], [s, s, 0], [0, s, 0], [0, 0, s], [s, 0, s], [s, s, s], [0, s, s]]
+    .map((v) => `v ${v.join(' ')}`).join('\n') + '\n' +
+    ['1 3 2', '1 4 3', '5 6 7', '5 7 8', '1 2 6', '1 6 5', '2 3 7', '2 7 6', '3 4 8', '3 8 7', '4 1 5', '4 5 8'].map((f) => `f ${f}`).join('\n');
+  await page.setInputFiles('#file', { name: 'cube.obj', mimeType: 'text/plain', buffer: Buffer.from(cube) });
+  await page.waitForFunction(() => window.prehensile.state.result?.object === 'cube.obj' && window.prehensile.state.result.valid, null, { timeout: 120_000 });
+  console.log('a dropped cube is grasped');
+  await page.screenshot({ path: `${out}/viewer-own-file.png` });
   assert.deepStrictEqual(errors, [], 'console errors');
 } finally {
   await browser.close();

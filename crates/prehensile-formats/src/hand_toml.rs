@@ -65,6 +65,30 @@ pub fn load_hand(path: &Path) -> Result<HandModel, FormatError> {
     parse_hand_toml(&text, &name)
 }
 
+/// A hand from one file's bytes (`.toml`, `.urdf`, or MJCF `.xml` without includes), by `name`'s
+/// extension: for hands that do not come from a path (a browser's dropped file). Files that
+/// need other files (MJCF includes, sidecars, skinned glTF) need [`load_hand`].
+pub fn parse_hand(bytes: &[u8], name: &str) -> Result<HandModel, FormatError> {
+    let text = std::str::from_utf8(bytes)
+        .map_err(|e| FormatError::new(name, format!("a hand file must be text: {e}")))?;
+    let ext = Path::new(name)
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("toml") => parse_hand_toml(text, name),
+        Some("urdf") => crate::parse_hand_urdf(text, name),
+        Some("xml") | Some("mjcf") => crate::parse_hand_mjcf(text, name),
+        other => Err(FormatError::new(
+            name,
+            format!(
+                "unknown hand file extension '{}'; give .toml, .urdf or .xml (MJCF) here",
+                other.map_or("(none)".to_string(), |e| format!(".{e}"))
+            ),
+        )),
+    }
+}
+
 fn line_of(text: &str, byte: usize) -> usize {
     text[..byte.min(text.len())].matches('\n').count() + 1
 }

@@ -7,11 +7,16 @@ use prehensile_core::math::Point3;
 
 use crate::FormatError;
 
-/// Reads every triangle of the default scene, in scene coordinates.
-pub fn read_gltf_triangles(path: &Path) -> Result<(Vec<Point3>, Vec<[usize; 3]>), FormatError> {
-    let name = path.display().to_string();
-    let bytes = crate::read_input(path, crate::MAX_MESH_BYTES)?;
-    let gltf = crate::gltf_accessors::parse_gltf(&bytes).map_err(|e| FormatError::new(&name, e))?;
+/// Every triangle of the default scene of a glTF file's bytes. Buffers in other files are read
+/// beside `file` (confined to its folder); without a file (bytes from a browser, say) only a
+/// `.glb`'s own binary chunk can be used.
+pub fn parse_gltf_triangles(
+    bytes: &[u8],
+    name: &str,
+    file: Option<&Path>,
+) -> Result<(Vec<Point3>, Vec<[usize; 3]>), FormatError> {
+    let name = name.to_string();
+    let gltf = crate::gltf_accessors::parse_gltf(bytes).map_err(|e| FormatError::new(&name, e))?;
     let doc = &gltf.document;
     // Buffers: the GLB's binary chunk, or files beside a .gltf. (Embedded base64 data URIs are
     // not supported: they would need the crate's image-decoding import feature.)
@@ -24,10 +29,20 @@ pub fn read_gltf_triangles(path: &Path) -> Result<(Vec<Point3>, Vec<[usize; 3]>)
                     "buffer refers to a binary chunk the file does not have",
                 )
             })?,
-            gltf::buffer::Source::Uri(uri) if !uri.starts_with("data:") => {
-                let file = crate::confined(path, uri)?;
-                crate::read_input(&file, crate::MAX_MESH_BYTES)?
-            }
+            gltf::buffer::Source::Uri(uri) if !uri.starts_with("data:") => match file {
+                Some(path) => {
+                    let beside = crate::confined(path, uri)?;
+                    crate::read_input(&beside, crate::MAX_MESH_BYTES)?
+                }
+                None => {
+                    return Err(FormatError::new(
+                        &name,
+                        format!(
+                        "its buffer is another file ('{uri}'); give a .glb, which holds its own"
+                    ),
+                    ))
+                }
+            },
             gltf::buffer::Source::Uri(_) => {
                 return Err(FormatError::new(
                     &name,

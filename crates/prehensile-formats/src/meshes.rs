@@ -9,38 +9,52 @@ use crate::{parse_obj, parse_ply, parse_stl, FormatError};
 
 /// Reads an OBJ, STL, PLY or glTF/GLB file into a welded mesh, every coordinate multiplied by `scale`.
 pub fn read_mesh(path: &Path, scale: f64) -> Result<TriangleMesh, FormatError> {
-    let name = path.display().to_string();
+    let bytes = crate::read_input(path, crate::MAX_MESH_BYTES)?;
+    parse_mesh_in(&bytes, &path.display().to_string(), scale, Some(path))
+}
+
+/// A mesh from a file's bytes (OBJ, STL, PLY or GLB, by `name`'s extension), coordinates times
+/// `scale`: for meshes that do not come from a path (a browser's dropped file, a network
+/// message). A `.gltf` whose buffers are other files needs [`read_mesh`].
+pub fn parse_mesh(bytes: &[u8], name: &str, scale: f64) -> Result<TriangleMesh, FormatError> {
+    parse_mesh_in(bytes, name, scale, None)
+}
+
+fn parse_mesh_in(
+    bytes: &[u8],
+    name: &str,
+    scale: f64,
+    file: Option<&Path>,
+) -> Result<TriangleMesh, FormatError> {
     if !(scale.is_finite() && scale > 0.0) {
         return Err(FormatError::new(
-            &name,
+            name,
             format!("scale {scale} must be a positive number"),
         ));
     }
-    let ext = path
+    let ext = Path::new(name)
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase)
         .unwrap_or_default();
-    let read = || crate::read_input(path, crate::MAX_MESH_BYTES);
     let (vertices, triangles) = match ext.as_str() {
         "obj" => {
-            let bytes = read()?;
-            let text = std::str::from_utf8(&bytes)
-                .map_err(|e| FormatError::new(&name, format!("an OBJ file must be text: {e}")))?;
-            parse_obj(text, &name)?
+            let text = std::str::from_utf8(bytes)
+                .map_err(|e| FormatError::new(name, format!("an OBJ file must be text: {e}")))?;
+            parse_obj(text, name)?
         }
-        "stl" => parse_stl(&read()?, &name)?,
-        "ply" => parse_ply(&read()?, &name)?,
-        "gltf" | "glb" => crate::mesh_gltf::read_gltf_triangles(path)?,
+        "stl" => parse_stl(bytes, name)?,
+        "ply" => parse_ply(bytes, name)?,
+        "gltf" | "glb" => crate::mesh_gltf::parse_gltf_triangles(bytes, name, file)?,
         _ => {
             return Err(FormatError::new(
-                &name,
+                name,
                 format!("unknown mesh extension '.{ext}'; use .obj, .stl, .ply, .gltf or .glb"),
             ))
         }
     };
     let scaled: Vec<Point3> = vertices.iter().map(|p| p * scale).collect();
-    TriangleMesh::weld(&scaled, &triangles).map_err(|e| FormatError::new(&name, e.to_string()))
+    TriangleMesh::weld(&scaled, &triangles).map_err(|e| FormatError::new(name, e.to_string()))
 }
 
 /// Reads a mesh file and makes a graspable object of it, hooked at its centre of mass.

@@ -237,3 +237,24 @@ fn two_mjcf_bodies_with_one_name_are_refused_instead_of_looping() {
         .to_string();
     assert!(e.contains("two bodies are named 'a'"), "{e}");
 }
+
+#[test]
+fn hands_and_meshes_read_from_bytes_as_from_files() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets");
+    let toml = std::fs::read(dir.join("hands/robot3.toml")).unwrap();
+    let from_bytes = prehensile_formats::parse_hand(&toml, "robot3.toml").unwrap();
+    let from_file = prehensile_formats::load_hand(&dir.join("hands/robot3.toml")).unwrap();
+    assert_eq!(from_bytes.dof_names(), from_file.dof_names());
+    let e = prehensile_formats::parse_hand(&toml, "robot3.txt").unwrap_err();
+    assert!(e.to_string().contains("unknown hand file extension"), "{e}");
+    let stl_path = dir.join("objects/robosuite_lemon.stl");
+    let stl = std::fs::read(&stl_path).unwrap();
+    assert_eq!(
+        prehensile_formats::parse_mesh(&stl, "lemon.stl", 1.0).unwrap(),
+        prehensile_formats::read_mesh(&stl_path, 1.0).unwrap()
+    );
+    // A .gltf whose buffer is another file cannot be read from its bytes alone.
+    let gltf = br#"{"asset":{"version":"2.0"},"buffers":[{"uri":"mesh.bin","byteLength":12}]}"#;
+    let e = prehensile_formats::parse_mesh(gltf, "scene.gltf", 1.0).unwrap_err();
+    assert!(e.to_string().contains("give a .glb"), "{e}");
+}

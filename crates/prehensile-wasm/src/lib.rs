@@ -61,8 +61,9 @@ fn hand_named(name: &str) -> Result<HandModel, JsError> {
 
 #[wasm_bindgen]
 impl Session {
-    /// A session of a built-in hand on a built-in object, searching `movement` with `seed`
-    /// from the hand's default shoulder.
+    /// A session of a built-in hand on a built-in object, searching `movement` (empty: the
+    /// hand's power grasp, else its first movement) with `seed` from the hand's default
+    /// shoulder.
     #[wasm_bindgen(constructor)]
     pub fn new(hand: &str, object: &str, movement: &str, seed: u64) -> Result<Session, JsError> {
         Self::start(
@@ -111,12 +112,58 @@ impl Session {
         )
     }
 
+    /// A session from what the user chose or dropped: a built-in hand by name, or a hand file's
+    /// bytes (`hand_bytes` non-empty; `.toml`, `.urdf`, MJCF `.xml` named by `hand`); likewise
+    /// the object (`.obj`, `.stl`, `.ply`, `.glb`). Errors carry the CLI's messages.
+    pub fn open(
+        hand: &str,
+        hand_bytes: &[u8],
+        object: &str,
+        object_bytes: &[u8],
+        movement: &str,
+        seed: u64,
+    ) -> Result<Session, JsError> {
+        let hand = if hand_bytes.is_empty() {
+            hand_named(hand)?
+        } else {
+            prehensile_formats::parse_hand(hand_bytes, hand).map_err(js)?
+        };
+        let object = if object_bytes.is_empty() {
+            object_named(object)?
+        } else {
+            let mesh = prehensile_formats::parse_mesh(object_bytes, object, 1.0).map_err(js)?;
+            ObjectModel::new(object, mesh, None).map_err(|e| js(format!("{object}: {e}")))?
+        };
+        Self::start(Arc::new(hand), Arc::new(object), movement, seed)
+    }
+
+    /// The movements of the session's hand, comma-separated.
+    pub fn hand_movements(&self) -> String {
+        self.planner
+            .hand()
+            .movements()
+            .iter()
+            .map(|m| m.name())
+            .collect::<Vec<_>>()
+            .join(",")
+    }
+
     fn start(
         hand: Arc<HandModel>,
         object: Arc<ObjectModel>,
         movement: &str,
         seed: u64,
     ) -> Result<Session, JsError> {
+        // No movement named: the hand's power grasp, else its first movement.
+        let movement = match movement {
+            "" => hand
+                .movement("power")
+                .or_else(|| hand.movements().first())
+                .map(|m| m.name().to_string())
+                .ok_or_else(|| js(format!("hand '{}' has no movements", hand.name())))?,
+            m => m.to_string(),
+        };
+        let movement = movement.as_str();
         let params = SearchParams {
             seed,
             ..SearchParams::default()
