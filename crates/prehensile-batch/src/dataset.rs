@@ -236,26 +236,17 @@ fn part_files(folder: &Path) -> Result<Vec<PathBuf>, BatchError> {
 
 /// Which inputs of two plans differ, by name.
 fn differences(a: &BatchPlan, b: &BatchPlan) -> Vec<&'static str> {
-    let mut out = Vec::new();
-    if a.hands != b.hands {
-        out.push("hands");
-    }
-    if a.objects != b.objects {
-        out.push("objects");
-    }
-    if a.movements != b.movements {
-        out.push("movements");
-    }
-    if a.shoulders != b.shoulders {
-        out.push("shoulders");
-    }
-    if a.seeds != b.seeds {
-        out.push("seeds");
-    }
-    if a.options != b.options {
-        out.push("options");
-    }
-    out
+    [
+        ("hands", a.hands != b.hands),
+        ("objects", a.objects != b.objects),
+        ("movements", a.movements != b.movements),
+        ("shoulders", a.shoulders != b.shoulders),
+        ("seeds", a.seeds != b.seeds),
+        ("options", a.options != b.options),
+    ]
+    .into_iter()
+    .filter_map(|(name, differs)| differs.then_some(name))
+    .collect()
 }
 
 /// The keys of the rows in one part.

@@ -11,7 +11,6 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use prehensile_core::math::Point3;
-use prehensile_core::mesh::TriangleMesh;
 use prehensile_core::search::{default_shoulder, PlannerStatus, SearchParams, SharedPlanner};
 use prehensile_core::{HandModel, ObjectModel};
 use wasm_bindgen::prelude::*;
@@ -69,44 +68,6 @@ impl Session {
         Self::start(
             Arc::new(hand_named(hand)?),
             Arc::new(object_named(object)?),
-            movement,
-            seed,
-        )
-    }
-
-    /// A session on a mesh given as flat arrays: `positions` x, y, z in metres, `indices`
-    /// three per triangle (counter-clockwise from outside).
-    pub fn with_mesh(
-        hand: &str,
-        name: &str,
-        positions: &[f64],
-        indices: &[u32],
-        movement: &str,
-        seed: u64,
-    ) -> Result<Session, JsError> {
-        if positions.len() % 3 != 0 || indices.len() % 3 != 0 {
-            return Err(js("positions and indices must come in threes"));
-        }
-        let points: Vec<Point3> = positions
-            .chunks_exact(3)
-            .map(|p| Point3::new(p[0], p[1], p[2]))
-            .collect();
-        let mut triangles = Vec::with_capacity(indices.len() / 3);
-        for (i, t) in indices.chunks_exact(3).enumerate() {
-            if let Some(bad) = t.iter().find(|&&k| k as usize >= points.len()) {
-                return Err(js(format!(
-                    "{name}: triangle {i} names vertex {bad}, but there are {}",
-                    points.len()
-                )));
-            }
-            triangles.push([t[0] as usize, t[1] as usize, t[2] as usize]);
-        }
-        let mesh =
-            TriangleMesh::weld(&points, &triangles).map_err(|e| js(format!("{name}: {e}")))?;
-        let object = ObjectModel::new(name, mesh, None).map_err(|e| js(format!("{name}: {e}")))?;
-        Self::start(
-            Arc::new(hand_named(hand)?),
-            Arc::new(object),
             movement,
             seed,
         )
