@@ -447,6 +447,125 @@ impl TriangleMesh {
         (mesh, removed)
     }
 
+    /// The same mesh with every triangle wound the other way (an inside-out mesh turned out).
+    pub fn flipped(&self) -> Self {
+        Self {
+            vertices: self.vertices.clone(),
+            triangles: self.triangles.iter().map(|&[a, b, c]| [a, c, b]).collect(),
+        }
+    }
+
+    /// Turns the triangles that disagree with their neighbours, so that every edge is traversed
+    /// once each way: the exact repair of "recalculate normals" for a closed manifold mesh. In
+    /// each connected part the majority's winding is kept (so an inward-wound cavity stays a
+    /// cavity). Returns the mesh and how many triangles were turned, or `None` when some edge is
+    /// not shared by exactly two triangles or the surface cannot be oriented (a Möbius strip).
+    pub fn oriented(&self) -> Option<(Self, usize)> {
+        let mut edges: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
+        for (t, tri) in self.triangles.iter().enumerate() {
+            for k in 0..3 {
+                let (u, v) = (tri[k], tri[(k + 1) % 3]);
+                edges.entry((u.min(v), u.max(v))).or_default().push(t);
+            }
+        }
+        if edges.values().any(|faces| faces.len() != 2) {
+            return None;
+        }
+        // Does triangle t run along edge (u, v) from u to v?
+        let forward = |t: usize, u: u32, v: u32| {
+            let tri = self.triangles[t];
+            (0..3).any(|k| tri[k] == u && tri[(k + 1) % 3] == v)
+        };
+        let mut flip: Vec<Option<bool>> = vec![None; self.triangles.len()];
+        let mut turned = 0;
+        for seed in 0..self.triangles.len() {
+            if flip[seed].is_some() {
+                continue;
+            }
+            flip[seed] = Some(false);
+            let mut part = vec![seed];
+            let mut queue = std::collections::VecDeque::from([seed]);
+            while let Some(t) = queue.pop_front() {
+                let tri = self.triangles[t];
+                for k in 0..3 {
+                    let (u, v) = (tri[k], tri[(k + 1) % 3]);
+                    let faces = &edges[&(u.min(v), u.max(v))];
+                    let other = if faces[0] == t { faces[1] } else { faces[0] };
+                    // The neighbour must run the edge the other way once both are turned.
+                    let t_runs_u_to_v = !flip[t]?;
+                    let wanted = forward(other, u, v) == t_runs_u_to_v;
+                    match flip[other] {
+                        None => {
+                            flip[other] = Some(wanted);
+                            part.push(other);
+                            queue.push_back(other);
+                        }
+                        Some(f) if f != wanted => return None,
+                        Some(_) => {}
+                    }
+                }
+            }
+            let flipped = part.iter().filter(|&&t| flip[t] == Some(true)).count();
+            if 2 * flipped > part.len() {
+                for &t in &part {
+                    flip[t] = flip[t].map(|f| !f);
+                }
+            }
+            turned += flipped.min(part.len() - flipped);
+        }
+        let triangles = (self.triangles.iter().zip(&flip))
+            .map(|(&[a, b, c], f)| {
+                if *f == Some(true) {
+                    [a, c, b]
+                } else {
+                    [a, b, c]
+                }
+            })
+            .collect();
+        let mesh = Self {
+            vertices: self.vertices.clone(),
+            triangles,
+        };
+        Some((mesh, turned))
+    }
+
+    /// Is every edge traversed as often in one direction as in the other? Then the surface is
+    /// closed and oriented as a whole — possibly non-manifold, or of parts that overlap — and its
+    /// winding number is an integer everywhere off the surface.
+    pub fn edges_balanced(&self) -> bool {
+        let mut balance: HashMap<(u32, u32), i64> = HashMap::new();
+        for tri in &self.triangles {
+            for k in 0..3 {
+                let (u, v) = (tri[k], tri[(k + 1) % 3]);
+                if u != v {
+                    *balance.entry((u.min(v), u.max(v))).or_default() += if u < v { 1 } else { -1 };
+                }
+            }
+        }
+        balance.values().all(|&b| b == 0)
+    }
+
+    /// The mesh without its (near) zero-area triangles, and how many were dropped. Unlike
+    /// [`TriangleMesh::remove_degenerate_triangles`] it does not mend the neighbours, so a closed
+    /// mesh may open: for meshes whose inside comes from winding numbers, which a zero-area
+    /// triangle does not change.
+    pub fn without_degenerate_triangles(&self) -> (Self, usize) {
+        let degenerate = self.degenerate_triangles();
+        let mut dead = vec![false; self.triangles.len()];
+        for &t in &degenerate {
+            dead[t] = true;
+        }
+        let triangles = (self.triangles.iter().zip(&dead))
+            .filter(|(_, &d)| !d)
+            .map(|(t, _)| *t)
+            .collect();
+        let mesh = Self {
+            vertices: self.vertices.clone(),
+            triangles,
+        };
+        (mesh, degenerate.len())
+    }
+
     /// Checks topology and geometry: closed, manifold, consistently wound, no degenerate
     /// triangles, positive volume. Every defect names where it is and how to fix it.
     pub fn report(&self) -> MeshReport {

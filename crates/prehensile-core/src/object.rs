@@ -1,7 +1,7 @@
 //! The graspable object (§3.2, §5.2.2): a checked closed mesh, its mass properties, hooks and
 //! collision structures, built once and shared read-only.
 
-use crate::collision::{Capsule, CollisionCounters, MeshCollider};
+use crate::collision::{inside_volume_and_centroid, Capsule, CollisionCounters, MeshCollider};
 use crate::math::Point3;
 use crate::mesh::{MeshError, MeshReport, TriangleMesh};
 
@@ -9,6 +9,15 @@ use crate::mesh::{MeshError, MeshReport, TriangleMesh};
 pub const MIN_OBJECT_SIZE: f64 = 1e-3;
 /// Largest object size accepted (largest side), metres.
 pub const MAX_OBJECT_SIZE: f64 = 100.0;
+
+/// Lines along the longer horizontal side when the inside's volume is integrated
+/// ([`inside_volume_and_centroid`]): within 1% on the shapes tested. A quarter as many when the
+/// winding number varies between crossings (open or inconsistent meshes), where each line costs
+/// several winding-number queries instead of none.
+const VOLUME_CELLS: usize = 256;
+/// Below this fraction of its bounding box, an inside counts as no volume at all (a flat card,
+/// a single-sided sheet).
+const ENCLOSED_FRACTION: f64 = 1e-4;
 
 /// Why a mesh cannot become a graspable object.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -22,6 +31,12 @@ pub enum ObjectError {
     AbsurdSize {
         /// Largest side in metres.
         size: f64,
+    },
+    /// The mesh bounds no volume: a flat or single-sided sheet.
+    #[error("the mesh encloses no volume ({why}); a flat or single-sided sheet cannot be grasped as a solid: give it thickness (e.g. Blender's Solidify modifier) or close it")]
+    NoInside {
+        /// What is wrong with the surface.
+        why: String,
     },
     /// A hook is not a finite point.
     #[error("hook {0} is not a finite point")]
@@ -61,11 +76,16 @@ pub struct ObjectModel {
 }
 
 impl ObjectModel {
-    /// Checks the mesh (closed, manifold, consistent, no degenerate triangles, plausible size),
-    /// computes its mass properties and builds its colliders. Hooks default to the centre of mass.
+    /// Checks the mesh (plausible size, an inside of some volume), computes its mass properties
+    /// and builds its colliders. Hooks default to the centre of mass.
     ///
-    /// Zero-area triangles are removed without changing the shape when they are the only defect
-    /// (see [`TriangleMesh::remove_degenerate_triangles`]); [`ObjectModel::repairs`] says so.
+    /// Exact repairs that leave the shape unchanged come first: collapsed triangles and
+    /// coincident opposite pairs are dropped, zero-area slivers removed by splitting their
+    /// neighbours, an inside-out closed mesh turned the right way. A clean closed manifold then
+    /// gets pseudo-normal signs and the distance grid. Any other mesh — open, non-manifold,
+    /// inconsistently wound, or of overlapping parts — gets its inside from generalized winding
+    /// numbers, and its volume and centre of mass from that inside. [`ObjectModel::repairs`]
+    /// says what was done.
     pub fn new(
         name: &str,
         mesh: TriangleMesh,
@@ -84,12 +104,21 @@ impl ObjectModel {
             ));
         }
         let mut report = mesh.report();
-        let only_slivers = report.degenerate_triangles > 0
-            && report.boundary_edges + report.non_manifold_edges + report.inconsistent_edges == 0;
-        if only_slivers {
+        if report.inconsistent_edges > 0 && report.boundary_edges + report.non_manifold_edges == 0 {
+            if let Some((oriented, turned)) = mesh.oriented() {
+                repairs.push(format!(
+                    "turned {turned} triangle(s) that faced the other way from their neighbours; the shape is unchanged"
+                ));
+                mesh = oriented;
+                report = mesh.report();
+            }
+        }
+        let edges_clean =
+            report.boundary_edges + report.non_manifold_edges + report.inconsistent_edges == 0;
+        if edges_clean && report.degenerate_triangles > 0 {
             let (fixed, removed) = mesh.remove_degenerate_triangles();
             let fixed_report = fixed.report();
-            if fixed_report.defects.is_empty() {
+            if fixed_report.degenerate_triangles == 0 {
                 repairs.push(format!(
                     "removed {removed} zero-area triangle(s) by splitting their neighbours; the shape is unchanged"
                 ));
@@ -97,23 +126,68 @@ impl ObjectModel {
                 report = fixed_report;
             }
         }
+        if edges_clean && report.degenerate_triangles == 0 && report.volume < 0.0 {
+            mesh = mesh.flipped();
+            repairs.push("the closed mesh was inside out (negative volume); every triangle was turned the other way".into());
+            report = mesh.report();
+        }
         let size = report.size.iter().copied().fold(0.0, f64::max);
         if !(MIN_OBJECT_SIZE..=MAX_OBJECT_SIZE).contains(&size) {
             return Err(ObjectError::AbsurdSize { size });
         }
-        if !report.defects.is_empty() {
-            return Err(MeshError::Defective(Box::new(report)).into());
-        }
-        let (_, center_of_mass) = mesh.volume_and_centroid();
-        // The collider first: the default hook must be on the object.
-        // The distance grid reaches 3 cm past the mesh: far enough to cover a hand closing on it.
-        let collider = MeshCollider::new(&mesh, 0.03);
-        let parts = mesh.components();
+        let mut parts = mesh.components();
+        let overlapping = parts_overlap(&mesh, &parts);
+        let (collider, volume, center_of_mass) = if report.defects.is_empty() && !overlapping {
+            // The distance grid reaches 3 cm past the mesh: far enough to cover a hand closing on
+            // it.
+            let (volume, center_of_mass) = mesh.volume_and_centroid();
+            (MeshCollider::new(&mesh, 0.03), volume, center_of_mass)
+        } else {
+            let (kept, dropped) = mesh.without_degenerate_triangles();
+            mesh = kept;
+            if mesh.triangles.is_empty() {
+                return Err(MeshError::Empty.into());
+            }
+            parts = mesh.components();
+            let collider = MeshCollider::with_winding_numbers(&mesh);
+            let closed_parts = mesh.edges_balanced();
+            let cells = if closed_parts {
+                VOLUME_CELLS
+            } else {
+                VOLUME_CELLS / 4
+            };
+            let (volume, center_of_mass) =
+                inside_volume_and_centroid(collider.exact(), cells, closed_parts);
+            let why = if report.defects.is_empty() {
+                format!("its {} parts overlap", parts.len())
+            } else {
+                report
+                    .defects
+                    .iter()
+                    .map(|d| first_clause(d))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            };
+            let encloses = volume > ENCLOSED_FRACTION * report.size.iter().product::<f64>();
+            if !encloses {
+                return Err(ObjectError::NoInside { why });
+            }
+            if dropped > 0 {
+                repairs.push(format!(
+                    "dropped {dropped} zero-area triangle(s); they bound nothing"
+                ));
+            }
+            repairs.push(format!(
+                "the mesh is not one clean closed surface ({why}): its inside is where the generalized winding number exceeds ½, volume {volume:.4e} m³ from that inside; collision uses the exact path only"
+            ));
+            (collider, volume, center_of_mass)
+        };
+        // The default hook must be on the object.
         let hooks = hooks.unwrap_or_else(|| {
             // Several separate parts with the centre of mass between them: hook the largest
             // part's centre instead of empty space. (One part with its centre of mass outside
             // its material, as a mug's, keeps it: the hand closes around the cavity.)
-            if parts.len() > 1 && collider.exact().signed_distance(&center_of_mass) > 0.0 {
+            if parts.len() > 1 && !collider.exact().inside(&center_of_mass) {
                 let largest = TriangleMesh {
                     vertices: mesh.vertices.clone(),
                     triangles: parts[0].iter().map(|&t| mesh.triangles[t]).collect(),
@@ -132,6 +206,7 @@ impl ObjectModel {
                 return Err(ObjectError::BadHook(i));
             }
         }
+        report.volume = volume;
         Ok(Self {
             name: name.to_string(),
             mesh,
@@ -238,6 +313,39 @@ mod tests {
     }
 }
 
+/// The defect's first clause ("12 boundary edges (the mesh has holes)"), without its advice.
+fn first_clause(defect: &str) -> &str {
+    defect.split([',', ';']).next().unwrap_or(defect)
+}
+
+/// Do two separate parts' bounding boxes meet? Then they may overlap or nest, and signed
+/// tetrahedra would count the shared space twice.
+fn parts_overlap(mesh: &TriangleMesh, parts: &[Vec<usize>]) -> bool {
+    let mut boxes: Vec<(Point3, Point3)> = parts
+        .iter()
+        .map(|part| {
+            let points = part.iter().flat_map(|&t| mesh.corners(t));
+            points.fold(
+                (
+                    Point3::from([f64::INFINITY; 3]),
+                    Point3::from([f64::NEG_INFINITY; 3]),
+                ),
+                |(lo, hi), p| (lo.inf(&p), hi.sup(&p)),
+            )
+        })
+        .collect();
+    boxes.sort_unstable_by(|a, b| a.0.x.total_cmp(&b.0.x));
+    (0..boxes.len()).any(|i| {
+        boxes[i + 1..]
+            .iter()
+            .take_while(|other| other.0.x <= boxes[i].1.x)
+            .any(|other| (0..3).all(|k| other.0[k] <= boxes[i].1[k] && boxes[i].0[k] <= other.1[k]))
+    })
+}
+
+/// Weld tolerances `check` tries on a mesh with holes, metres: hairline seams of exported scans.
+const WELD_TRIALS: [f64; 3] = [1e-7, 1e-6, 1e-5];
+
 /// What `check` says about a mesh: its topology report, and what the grasp search will do with
 /// it (the same exact repairs and checks as [`ObjectModel::new`]).
 #[derive(Debug, Clone, serde::Serialize)]
@@ -251,6 +359,14 @@ pub struct MeshCheck {
     pub repairs: Vec<String>,
     /// Whether the search accepts the mesh.
     pub grasp_accepts: bool,
+    /// How the search decides inside from outside, when it accepts the mesh:
+    /// `"closed surface"` (pseudo-normals and the distance grid) or `"winding number"`.
+    pub inside_rule: Option<&'static str>,
+    /// The volume the search uses (after repairs; of the winding-number inside), m³.
+    pub object_volume: Option<f64>,
+    /// For a mesh with holes: the smallest `--weld` tolerance (metres) that closes it into a
+    /// clean surface, which the search handles on its fast path.
+    pub weld_closes_at: Option<f64>,
     /// Why not, when not.
     pub grasp_error: Option<String>,
 }
@@ -260,6 +376,13 @@ impl MeshCheck {
     pub fn new(name: &str, mesh: TriangleMesh) -> Self {
         let report = mesh.report();
         let parts = mesh.components().len();
+        let weld_closes_at = (report.boundary_edges > 0)
+            .then(|| {
+                WELD_TRIALS
+                    .into_iter()
+                    .find(|&w| mesh.weld_within(w).0.report().defects.is_empty())
+            })
+            .flatten();
         let verdict = ObjectModel::new(name, mesh, None);
         Self {
             report,
@@ -269,6 +392,15 @@ impl MeshCheck {
                 .map(|o| o.repairs().to_vec())
                 .unwrap_or_default(),
             grasp_accepts: verdict.is_ok(),
+            inside_rule: verdict.as_ref().ok().map(|o| {
+                if o.collider().exact().uses_winding_numbers() {
+                    "winding number"
+                } else {
+                    "closed surface"
+                }
+            }),
+            object_volume: verdict.as_ref().ok().map(|o| o.volume()),
+            weld_closes_at,
             grasp_error: verdict.err().map(|e| e.to_string()),
         }
     }

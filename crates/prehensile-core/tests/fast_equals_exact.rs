@@ -45,7 +45,7 @@ fn the_grid_fills_lazily_and_threads_sharing_it_agree() {
     use prehensile_core::search::{GraspPlanner, GraspResult, SearchParams};
     use prehensile_core::Workspace;
     let object = common::object("mug");
-    let grid = object.collider().grid();
+    let grid = object.collider().grid().expect("a clean mesh has the grid");
     assert_eq!(grid.filled_nodes(), 0);
     let hand = prehensile_formats::builtin_hand("human").unwrap();
     let search = |object: &prehensile_core::ObjectModel, seed: u64| {

@@ -467,3 +467,27 @@ fn the_mirrored_human_hand_is_a_left_hand_that_grasps() {
         }
     }
 }
+
+#[test]
+fn human_power_grasps_hold_open_and_non_manifold_meshes() {
+    // Their insides come from winding numbers; the results must meet the same definition.
+    let hand = common::hand("human");
+    let cup_path = common::repo_path("crates/prehensile-core/tests/data/winding/open_cup.obj");
+    let open_cup = prehensile_formats::load_object(&cup_path, 1.0).unwrap();
+    let objects = [
+        ("open cup", open_cup),
+        ("pybullet_mug.obj", fixture("pybullet_mug.obj", 1.0)),
+        (
+            "can with holes",
+            fixture("robosuite_can_with_holes.stl", 1.0),
+        ),
+        ("bottle", fixture("robosuite_bottle.stl", 1.0)),
+    ];
+    for (name, object) in &objects {
+        assert!(object.collider().exact().uses_winding_numbers(), "{name}");
+        for shoulder in &SHOULDERS[..2] {
+            let r = search(&hand, object, "power", *shoulder, 1);
+            assert_grasp(object, &r, &format!("{name} from {shoulder:?}"));
+        }
+    }
+}

@@ -44,7 +44,11 @@ pub fn run(args: &CheckArgs) -> Result<i32, CliError> {
         out!("  non-manifold edges  {}", report.non_manifold_edges);
         out!("  flipped edges       {}", report.inconsistent_edges);
         out!("  degenerate triangles {}", report.degenerate_triangles);
-        out!("  volume              {:.6e} m³", report.volume);
+        out!("  volume (signed)     {:.6e} m³", report.volume);
+        if let (Some(rule), Some(volume)) = (check.inside_rule, check.object_volume) {
+            out!("  inside from         {rule}");
+            out!("  object volume       {volume:.6e} m³");
+        }
         out!(
             "  size                {:.4} x {:.4} x {:.4} m",
             report.size[0],
@@ -67,6 +71,11 @@ pub fn run(args: &CheckArgs) -> Result<i32, CliError> {
         }
         for r in repairs {
             eprintln!("repair: {name}: {r}");
+        }
+        if let Some(w) = check.weld_closes_at {
+            eprintln!(
+                "hint: {name}: --weld {w:e} closes the holes exactly (a clean closed surface: the search runs on its fast path)"
+            );
         }
         eprintln!(
             "{name}: prehensile grasp accepts this mesh{}",

@@ -2,11 +2,18 @@
 //!
 //! Two paths: [`TriangleBvh::capsule_touches`] is exact; [`MeshCollider::capsule_touches`] first
 //! asks a [`SignedDistanceGrid`] and falls back to the exact path only when the grid's bounds do
-//! not decide, so both always give the same answer.
+//! not decide, so both always give the same answer. A mesh that is not a clean closed manifold
+//! has its inside from winding numbers ([`fast_winding_number`]) and only the exact path: a
+//! signed distance whose sign flips across a hole, away from any triangle, is not the Lipschitz
+//! function the grid's bounds need.
 
+mod fast_winding_number;
+mod inside_volume;
 mod signed_distance_grid;
 mod triangle_bvh;
 
+pub use fast_winding_number::{triangle_solid_angle, WindingNumberTree};
+pub use inside_volume::inside_volume_and_centroid;
 pub use signed_distance_grid::{Decision, SignedDistanceGrid};
 pub use triangle_bvh::{SurfacePoint, TriangleBvh};
 
@@ -39,17 +46,25 @@ pub struct CollisionCounters {
 #[derive(Debug, Clone)]
 pub struct MeshCollider {
     exact: TriangleBvh,
-    fast: SignedDistanceGrid,
+    fast: Option<SignedDistanceGrid>,
 }
 
 impl MeshCollider {
-    /// Builds both paths for a mesh that passed its checks. The distance grid extends `margin`
-    /// metres beyond the mesh's bounds.
+    /// Builds both paths for a closed, manifold, consistently wound mesh. The distance grid
+    /// extends `margin` metres beyond the mesh's bounds.
     pub fn new(mesh: &TriangleMesh, margin: f64) -> Self {
         let exact = TriangleBvh::new(mesh);
         let (lo, hi) = mesh.bounds();
-        let fast = SignedDistanceGrid::new(lo, hi, margin);
+        let fast = Some(SignedDistanceGrid::new(lo, hi, margin));
         Self { exact, fast }
+    }
+
+    /// The exact path alone, inside from winding numbers: for any other mesh.
+    pub fn with_winding_numbers(mesh: &TriangleMesh) -> Self {
+        Self {
+            exact: TriangleBvh::with_winding_numbers(mesh),
+            fast: None,
+        }
     }
 
     /// The exact path.
@@ -57,24 +72,29 @@ impl MeshCollider {
         &self.exact
     }
 
-    /// The distance grid.
-    pub fn grid(&self) -> &SignedDistanceGrid {
-        &self.fast
+    /// The distance grid (none for a mesh whose inside is from winding numbers).
+    pub fn grid(&self) -> Option<&SignedDistanceGrid> {
+        self.fast.as_ref()
     }
 
     /// An upper bound on the smallest signed distance along segment `a–b` (+∞ when the grid
-    /// cannot bound it), from the distance grid.
+    /// cannot bound it, or there is no grid), from the distance grid.
     pub fn segment_clearance_upper_bound(&self, a: &Point3, b: &Point3) -> f64 {
-        self.fast.segment_clearance_upper_bound(&self.exact, a, b)
+        self.fast.as_ref().map_or(f64::INFINITY, |grid| {
+            grid.segment_clearance_upper_bound(&self.exact, a, b)
+        })
     }
 
     /// Fast test, same answer as the exact one: does the capsule touch or lie inside the object?
     pub fn capsule_touches(&self, capsule: &Capsule, counters: &mut CollisionCounters) -> bool {
         counters.queries += 1;
-        match self
-            .fast
-            .decide(&self.exact, &capsule.a, &capsule.b, capsule.radius)
-        {
+        let Some(fast) = &self.fast else {
+            counters.exact_fallbacks += 1;
+            return self
+                .exact
+                .capsule_touches(&capsule.a, &capsule.b, capsule.radius);
+        };
+        match fast.decide(&self.exact, &capsule.a, &capsule.b, capsule.radius) {
             Decision::Touches => true,
             Decision::Free => false,
             Decision::Unsure { from, to, outside } => {

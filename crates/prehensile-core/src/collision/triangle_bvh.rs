@@ -1,7 +1,9 @@
 //! Exact queries against a closed triangle mesh, accelerated by a bounding-volume hierarchy.
 //!
 //! Signs come from angle-weighted pseudo-normals (Bærentzen & Aanæs 2005), which are exact for a
-//! closed, manifold, consistently wound mesh — the only kind an [`crate::ObjectModel`] accepts.
+//! closed, manifold, consistently wound mesh. Any other mesh (open, non-manifold, inconsistently
+//! wound, overlapping parts) is built [`TriangleBvh::with_winding_numbers`]: its inside is where
+//! the generalized winding number exceeds ½, and signs and normals follow it.
 //! Written by hand rather than with parry3d's BVH so that the leaf tests are our checked kernels
 //! and the traversal uses a fixed stack: queries take `&self` and never allocate.
 
@@ -13,6 +15,8 @@ use crate::geometry::{
 };
 use crate::math::{Point3, Vec3};
 use crate::mesh::TriangleMesh;
+
+use super::fast_winding_number::{triangle_solid_angle, TreeNode, WindingNumberTree};
 
 /// A point on the surface with its outward pseudo-normal.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -52,16 +56,19 @@ pub struct TriangleBvh {
     vertex_normals: Vec<[Vec3; 3]>,
     nodes: Vec<Node>,
     order: Vec<u32>,
+    /// Present when the inside is given by winding numbers instead of pseudo-normals.
+    winding: Option<WindingNumberTree>,
 }
 
 impl TriangleBvh {
-    /// Builds the grid for a mesh that has passed [`TriangleMesh::report`] without defects.
+    /// Builds the hierarchy for a closed, manifold, consistently wound mesh (one that passed
+    /// [`TriangleMesh::report`] without defects): signs from pseudo-normals.
     pub fn new(mesh: &TriangleMesh) -> Self {
         let n = mesh.triangles.len();
         let corners: Vec<[Point3; 3]> = (0..n).map(|t| mesh.corners(t)).collect();
         let face_normals: Vec<Vec3> = corners
             .iter()
-            .map(|[a, b, c]| (b - a).cross(&(c - a)).normalize())
+            .map(|[a, b, c]| unit_or((b - a).cross(&(c - a)), Vec3::z()))
             .collect();
         // Angle-weighted vertex pseudo-normals.
         let mut vertex_acc = vec![Vec3::zeros(); mesh.vertices.len()];
@@ -77,7 +84,8 @@ impl TriangleBvh {
         let vertex_normals = mesh
             .triangles
             .iter()
-            .map(|tri| tri.map(|i| vertex_acc[i as usize].normalize()))
+            .zip(&face_normals)
+            .map(|(tri, face)| tri.map(|i| unit_or(vertex_acc[i as usize], *face)))
             .collect();
         // Edge pseudo-normals: sum of the two adjacent face normals.
         let mut edge_faces: HashMap<(u32, u32), Vec3> = HashMap::with_capacity(n * 3 / 2);
@@ -92,10 +100,11 @@ impl TriangleBvh {
         let edge_normals = mesh
             .triangles
             .iter()
-            .map(|tri| {
+            .zip(&face_normals)
+            .map(|(tri, face)| {
                 std::array::from_fn(|k| {
                     let (u, v) = (tri[k], tri[(k + 1) % 3]);
-                    edge_faces[&(u.min(v), u.max(v))].normalize()
+                    unit_or(edge_faces[&(u.min(v), u.max(v))], *face)
                 })
             })
             .collect();
@@ -119,6 +128,7 @@ impl TriangleBvh {
             vertex_normals,
             nodes: Vec::with_capacity(2 * n / LEAF_SIZE + 1),
             order: (0..n as u32).collect(),
+            winding: None,
         };
         bvh.nodes.push(Node {
             min: Point3::origin(),
@@ -128,6 +138,85 @@ impl TriangleBvh {
         });
         bvh.build(0, 0, n);
         bvh
+    }
+
+    /// Builds the hierarchy for any mesh: the inside is where the generalized winding number
+    /// exceeds ½ (and within the mesh's bounding box), signs and outward normals follow it.
+    pub fn with_winding_numbers(mesh: &TriangleMesh) -> Self {
+        let mut bvh = Self::new(mesh);
+        let links = bvh
+            .nodes
+            .iter()
+            .map(|n| TreeNode {
+                first: n.first,
+                count: n.count,
+            })
+            .collect();
+        bvh.winding = Some(WindingNumberTree::new(links, &bvh.order, &bvh.corners));
+        bvh
+    }
+
+    /// Is the inside given by winding numbers (the mesh is not a clean closed manifold)?
+    pub fn uses_winding_numbers(&self) -> bool {
+        self.winding.is_some()
+    }
+
+    /// The generalized winding number at `p`: 1 inside a closed part, 0 outside, fractional
+    /// near holes. Tree-approximated when built [`TriangleBvh::with_winding_numbers`], else
+    /// summed exactly over every triangle.
+    pub fn winding_number(&self, p: &Point3) -> f64 {
+        match &self.winding {
+            Some(tree) => tree.winding_number(&self.order, &self.corners, p),
+            None => {
+                self.corners
+                    .iter()
+                    .map(|t| triangle_solid_angle(t, p))
+                    .sum::<f64>()
+                    / (4.0 * std::f64::consts::PI)
+            }
+        }
+    }
+
+    /// Is `p` inside the object? Winding number above ½ in magnitude (so a part wound inside
+    /// out still counts, and a cavity wound inward is empty), within the bounding box, for a mesh
+    /// built with winding numbers, negative signed distance otherwise.
+    pub fn inside(&self, p: &Point3) -> bool {
+        match &self.winding {
+            Some(tree) => {
+                let root = &self.nodes[0];
+                (0..3).all(|i| p[i] >= root.min[i] && p[i] <= root.max[i])
+                    && tree.winding_number(&self.order, &self.corners, p).abs() > 0.5
+            }
+            None => self.signed_distance(p) < 0.0,
+        }
+    }
+
+    /// Where the vertical line through `(x, y)` crosses a triangle, unsorted, into `out`
+    /// (cleared first): the height, and how the winding number changes going up through it (+1
+    /// entering through a downward-facing triangle, −1 leaving). A line through an edge may
+    /// report it twice or not at all.
+    pub fn vertical_crossings(&self, x: f64, y: f64, out: &mut Vec<(f64, i32)>) {
+        out.clear();
+        let mut stack = [0u32; STACK];
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let node = self.nodes[stack[top] as usize];
+            if x < node.min.x || x > node.max.x || y < node.min.y || y > node.max.y {
+                continue;
+            }
+            if node.count > 0 {
+                for &t in &self.order[node.first as usize..(node.first + node.count) as usize] {
+                    if let Some(crossing) = vertical_crossing(&self.corners[t as usize], x, y) {
+                        out.push(crossing);
+                    }
+                }
+            } else {
+                stack[top] = node.first;
+                stack[top + 1] = node.first + 1;
+                top += 2;
+            }
+        }
     }
 
     /// Builds node `index` over `order[start..end]`, splitting at the median of the longest axis.
@@ -163,6 +252,11 @@ impl TriangleBvh {
         self.nodes[index].count = 0;
         self.build(left, start, mid);
         self.build(left + 1, mid, end);
+    }
+
+    /// The mesh's bounding box (lower and upper corners).
+    pub fn bounds(&self) -> (Point3, Point3) {
+        (self.nodes[0].min, self.nodes[0].max)
     }
 
     /// Number of triangles.
@@ -246,10 +340,17 @@ impl TriangleBvh {
             TriangleFeature::Vertex(k) => self.vertex_normals[t][k as usize],
         };
         let d = (point - p).norm();
-        let signed_distance = if (p - point).dot(&normal) < 0.0 {
-            -d
-        } else {
-            d
+        let (signed_distance, normal) = match &self.winding {
+            None if (p - point).dot(&normal) < 0.0 => (-d, normal),
+            None => (d, normal),
+            Some(_) => {
+                // The pseudo-normal of an open or inconsistent mesh may face either way: turn
+                // it away from the inside.
+                let inside = self.inside(p);
+                let facing_p = (p - point).dot(&normal) >= 0.0;
+                let normal = if inside == facing_p { -normal } else { normal };
+                (if inside { -d } else { d }, normal)
+            }
         };
         SurfacePoint {
             point,
@@ -308,9 +409,36 @@ impl TriangleBvh {
     }
 
     /// Exact test: does the capsule touch the surface or lie inside the object?
+    ///
+    /// A capsule clear of the surface is wholly inside or wholly outside a closed mesh, so one
+    /// end decides. The inside of an open mesh also ends across its holes, so there both ends are
+    /// asked.
     pub fn capsule_touches(&self, a: &Point3, b: &Point3, radius: f64) -> bool {
-        self.segment_within(a, b, radius) || self.signed_distance(a) < 0.0
+        self.segment_within(a, b, radius)
+            || self.inside(a)
+            || (self.winding.is_some() && self.inside(b))
     }
+}
+
+/// `v` normalized, or `fallback` when it has no direction (a collapsed triangle, or normals
+/// of an inconsistent mesh that cancel).
+fn unit_or(v: Vec3, fallback: Vec3) -> Vec3 {
+    v.try_normalize(1e-300).unwrap_or(fallback)
+}
+
+/// Height where the vertical line through `(x, y)` crosses triangle `abc`, if it does, and the
+/// change of winding number going up through it.
+fn vertical_crossing([a, b, c]: &[Point3; 3], x: f64, y: f64) -> Option<(f64, i32)> {
+    // Barycentric coordinates of (x, y) in the triangle's projection on the xy plane.
+    let det = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
+    if det.abs() < 1e-300 {
+        return None;
+    }
+    let u = ((x - a.x) * (c.y - a.y) - (c.x - a.x) * (y - a.y)) / det;
+    let v = ((b.x - a.x) * (y - a.y) - (x - a.x) * (b.y - a.y)) / det;
+    let change = if det > 0.0 { -1 } else { 1 };
+    (u >= 0.0 && v >= 0.0 && u + v <= 1.0)
+        .then(|| (a.z + u * (b.z - a.z) + v * (c.z - a.z), change))
 }
 
 fn distance_squared_point_segment(p: &Point3, a: &Point3, b: &Point3) -> f64 {
