@@ -83,6 +83,10 @@ pub struct MeshReport {
     pub non_manifold_edges: usize,
     /// Edges whose two triangles traverse them in the same direction (flipped winding).
     pub inconsistent_edges: usize,
+    /// Edges traversed more often one way than the other. With none, the surface is closed and
+    /// oriented as a whole — even if non-manifold or of overlapping parts — and its winding
+    /// number is an integer everywhere off the surface.
+    pub unbalanced_edges: usize,
     /// Triangles with (near) zero area.
     pub degenerate_triangles: usize,
     /// Enclosed volume in cubic metres (meaningful only for closed meshes; negative = inside out).
@@ -529,22 +533,6 @@ impl TriangleMesh {
         Some((mesh, turned))
     }
 
-    /// Is every edge traversed as often in one direction as in the other? Then the surface is
-    /// closed and oriented as a whole — possibly non-manifold, or of parts that overlap — and its
-    /// winding number is an integer everywhere off the surface.
-    pub fn edges_balanced(&self) -> bool {
-        let mut balance: HashMap<(u32, u32), i64> = HashMap::new();
-        for tri in &self.triangles {
-            for k in 0..3 {
-                let (u, v) = (tri[k], tri[(k + 1) % 3]);
-                if u != v {
-                    *balance.entry((u.min(v), u.max(v))).or_default() += if u < v { 1 } else { -1 };
-                }
-            }
-        }
-        balance.values().all(|&b| b == 0)
-    }
-
     /// The mesh without its (near) zero-area triangles, and how many were dropped. Unlike
     /// [`TriangleMesh::remove_degenerate_triangles`] it does not mend the neighbours, so a closed
     /// mesh may open: for meshes whose inside comes from winding numbers, which a zero-area
@@ -594,6 +582,7 @@ impl TriangleMesh {
         let mut boundary = Vec::new();
         let mut non_manifold = Vec::new();
         let mut inconsistent = Vec::new();
+        let unbalanced_edges = edges.values().filter(|(fwd, back)| fwd != back).count();
         for (&(u, v), &(fwd, back)) in &edges {
             match fwd + back {
                 1 => boundary.push((u, v)),
@@ -647,6 +636,7 @@ impl TriangleMesh {
             boundary_edges: boundary.len(),
             non_manifold_edges: non_manifold.len(),
             inconsistent_edges: inconsistent.len(),
+            unbalanced_edges,
             degenerate_triangles: degenerate.len(),
             volume,
             size: [size.x, size.y, size.z],

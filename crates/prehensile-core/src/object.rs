@@ -1,7 +1,10 @@
 //! The graspable object (§3.2, §5.2.2): a checked closed mesh, its mass properties, hooks and
 //! collision structures, built once and shared read-only.
 
-use crate::collision::{inside_volume_and_centroid, Capsule, CollisionCounters, MeshCollider};
+use crate::collision::{
+    inside_volume_and_centroid, overlaps_itself, Capsule, CollisionCounters, MeshCollider,
+    TriangleBvh,
+};
 use crate::math::Point3;
 use crate::mesh::{MeshError, MeshReport, TriangleMesh};
 
@@ -15,6 +18,8 @@ pub const MAX_OBJECT_SIZE: f64 = 100.0;
 /// winding number varies between crossings (open or inconsistent meshes), where each line costs
 /// several winding-number queries instead of none.
 const VOLUME_CELLS: usize = 256;
+/// Lines along the longer horizontal side scanned for space a closed mesh covers twice.
+const OVERLAP_SCAN_CELLS: usize = 64;
 /// Below this fraction of its bounding box, an inside counts as no volume at all (a flat card,
 /// a single-sided sheet).
 const ENCLOSED_FRACTION: f64 = 1e-4;
@@ -135,31 +140,21 @@ impl ObjectModel {
         if !(MIN_OBJECT_SIZE..=MAX_OBJECT_SIZE).contains(&size) {
             return Err(ObjectError::AbsurdSize { size });
         }
-        let mut parts = mesh.components();
-        let overlapping = parts_overlap(&mesh, &parts);
+        let exact = TriangleBvh::new(&mesh);
+        let balanced = report.unbalanced_edges == 0;
+        let overlapping = balanced && overlaps_itself(&exact, OVERLAP_SCAN_CELLS);
         let (collider, volume, center_of_mass) = if report.defects.is_empty() && !overlapping {
             // The distance grid reaches 3 cm past the mesh: far enough to cover a hand closing on
             // it.
             let (volume, center_of_mass) = mesh.volume_and_centroid();
-            (MeshCollider::new(&mesh, 0.03), volume, center_of_mass)
+            (
+                MeshCollider::from_exact(exact, 0.03),
+                volume,
+                center_of_mass,
+            )
         } else {
-            let (kept, dropped) = mesh.without_degenerate_triangles();
-            mesh = kept;
-            if mesh.triangles.is_empty() {
-                return Err(MeshError::Empty.into());
-            }
-            parts = mesh.components();
-            let collider = MeshCollider::with_winding_numbers(&mesh);
-            let closed_parts = mesh.edges_balanced();
-            let cells = if closed_parts {
-                VOLUME_CELLS
-            } else {
-                VOLUME_CELLS / 4
-            };
-            let (volume, center_of_mass) =
-                inside_volume_and_centroid(collider.exact(), cells, closed_parts);
             let why = if report.defects.is_empty() {
-                format!("its {} parts overlap", parts.len())
+                "it overlaps itself: parts overlap or a face passes through another".to_string()
             } else {
                 report
                     .defects
@@ -168,6 +163,24 @@ impl ObjectModel {
                     .collect::<Vec<_>>()
                     .join(", ")
             };
+            let (kept, dropped) = mesh.without_degenerate_triangles();
+            let exact = if dropped > 0 {
+                mesh = kept;
+                if mesh.triangles.is_empty() {
+                    return Err(MeshError::Empty.into());
+                }
+                TriangleBvh::new(&mesh)
+            } else {
+                exact
+            };
+            let collider = MeshCollider::from_exact(exact.into_winding_numbers(), 0.03);
+            let cells = if balanced {
+                VOLUME_CELLS
+            } else {
+                VOLUME_CELLS / 4
+            };
+            let (volume, center_of_mass) =
+                inside_volume_and_centroid(collider.exact(), cells, balanced);
             let encloses = volume > ENCLOSED_FRACTION * report.size.iter().product::<f64>();
             if !encloses {
                 return Err(ObjectError::NoInside { why });
@@ -182,6 +195,7 @@ impl ObjectModel {
             ));
             (collider, volume, center_of_mass)
         };
+        let parts = mesh.components();
         // The default hook must be on the object.
         let hooks = hooks.unwrap_or_else(|| {
             // Several separate parts with the centre of mass between them: hook the largest
@@ -316,31 +330,6 @@ mod tests {
 /// The defect's first clause ("12 boundary edges (the mesh has holes)"), without its advice.
 fn first_clause(defect: &str) -> &str {
     defect.split([',', ';']).next().unwrap_or(defect)
-}
-
-/// Do two separate parts' bounding boxes meet? Then they may overlap or nest, and signed
-/// tetrahedra would count the shared space twice.
-fn parts_overlap(mesh: &TriangleMesh, parts: &[Vec<usize>]) -> bool {
-    let mut boxes: Vec<(Point3, Point3)> = parts
-        .iter()
-        .map(|part| {
-            let points = part.iter().flat_map(|&t| mesh.corners(t));
-            points.fold(
-                (
-                    Point3::from([f64::INFINITY; 3]),
-                    Point3::from([f64::NEG_INFINITY; 3]),
-                ),
-                |(lo, hi), p| (lo.inf(&p), hi.sup(&p)),
-            )
-        })
-        .collect();
-    boxes.sort_unstable_by(|a, b| a.0.x.total_cmp(&b.0.x));
-    (0..boxes.len()).any(|i| {
-        boxes[i + 1..]
-            .iter()
-            .take_while(|other| other.0.x <= boxes[i].1.x)
-            .any(|other| (0..3).all(|k| other.0[k] <= boxes[i].1[k] && boxes[i].0[k] <= other.1[k]))
-    })
 }
 
 /// Weld tolerances `check` tries on a mesh with holes, metres: hairline seams of exported scans.

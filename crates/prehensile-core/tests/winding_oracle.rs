@@ -77,13 +77,11 @@ fn winding_numbers_and_insides_match_libigl() {
 }
 
 #[test]
-fn objects_from_open_overlapping_and_inconsistent_meshes_get_the_inside_volume() {
+fn objects_from_open_overlapping_and_self_intersecting_meshes_get_the_inside_volume() {
     let oracle = oracle();
     for (name, answers) in &oracle.meshes {
-        if name == "poked_cube" || name == "flipped_face_box" {
-            // The poked cube is self-intersecting but closed and consistently wound: not
-            // detected yet, its signed volume is used. The flipped face is repaired exactly
-            // (below).
+        if name == "flipped_face_box" {
+            // Repaired exactly instead (below).
             continue;
         }
         let object = ObjectModel::new(name, mesh(name), None).unwrap();
@@ -102,17 +100,21 @@ fn objects_from_open_overlapping_and_inconsistent_meshes_get_the_inside_volume()
             "{name}: centre {} vs {centroid}",
             object.center_of_mass()
         );
+        // A hollow sphere is a clean closed surface (its cavity wound inward): it keeps the fast
+        // path. The others need winding numbers: open, overlapping, self-intersecting.
+        let clean = name == "hollow_sphere";
         let uses_winding = object.collider().exact().uses_winding_numbers();
-        assert!(uses_winding, "{name}: expected the winding-number inside");
-        assert!(
+        assert_eq!(uses_winding, !clean, "{name}");
+        assert_eq!(
             object
                 .repairs()
                 .iter()
                 .any(|r| r.contains("winding number")),
+            !clean,
             "{name}: {:?}",
             object.repairs()
         );
-        assert!(object.collider().grid().is_none());
+        assert_eq!(object.collider().grid().is_none(), !clean, "{name}");
     }
 }
 

@@ -13,7 +13,7 @@ mod signed_distance_grid;
 mod triangle_bvh;
 
 pub use fast_winding_number::{triangle_solid_angle, WindingNumberTree};
-pub use inside_volume::inside_volume_and_centroid;
+pub use inside_volume::{inside_volume_and_centroid, overlaps_itself};
 pub use signed_distance_grid::{Decision, SignedDistanceGrid};
 pub use triangle_bvh::{SurfacePoint, TriangleBvh};
 
@@ -53,18 +53,17 @@ impl MeshCollider {
     /// Builds both paths for a closed, manifold, consistently wound mesh. The distance grid
     /// extends `margin` metres beyond the mesh's bounds.
     pub fn new(mesh: &TriangleMesh, margin: f64) -> Self {
-        let exact = TriangleBvh::new(mesh);
-        let (lo, hi) = mesh.bounds();
-        let fast = Some(SignedDistanceGrid::new(lo, hi, margin));
-        Self { exact, fast }
+        Self::from_exact(TriangleBvh::new(mesh), margin)
     }
 
-    /// The exact path alone, inside from winding numbers: for any other mesh.
-    pub fn with_winding_numbers(mesh: &TriangleMesh) -> Self {
-        Self {
-            exact: TriangleBvh::with_winding_numbers(mesh),
-            fast: None,
-        }
+    /// The colliders around an exact path: with the distance grid (`margin` metres beyond the
+    /// mesh) when its signs come from pseudo-normals, alone when from winding numbers.
+    pub fn from_exact(exact: TriangleBvh, margin: f64) -> Self {
+        let fast = (!exact.uses_winding_numbers()).then(|| {
+            let (lo, hi) = exact.bounds();
+            SignedDistanceGrid::new(lo, hi, margin)
+        });
+        Self { exact, fast }
     }
 
     /// The exact path.

@@ -143,8 +143,13 @@ impl TriangleBvh {
     /// Builds the hierarchy for any mesh: the inside is where the generalized winding number
     /// exceeds ½ (and within the mesh's bounding box), signs and outward normals follow it.
     pub fn with_winding_numbers(mesh: &TriangleMesh) -> Self {
-        let mut bvh = Self::new(mesh);
-        let links = bvh
+        Self::new(mesh).into_winding_numbers()
+    }
+
+    /// This hierarchy with its inside from winding numbers (see
+    /// [`TriangleBvh::with_winding_numbers`]).
+    pub fn into_winding_numbers(mut self) -> Self {
+        let links = self
             .nodes
             .iter()
             .map(|n| TreeNode {
@@ -152,8 +157,8 @@ impl TriangleBvh {
                 count: n.count,
             })
             .collect();
-        bvh.winding = Some(WindingNumberTree::new(links, &bvh.order, &bvh.corners));
-        bvh
+        self.winding = Some(WindingNumberTree::new(links, &self.order, &self.corners));
+        self
     }
 
     /// Is the inside given by winding numbers (the mesh is not a clean closed manifold)?
