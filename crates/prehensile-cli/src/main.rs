@@ -19,20 +19,66 @@ mod sources;
 
 use clap::Parser;
 
-/// An error for the user: printed as-is, exit code 2.
+/// An error for the user: printed as-is, exit code 2. The libraries' typed errors are carried
+/// whole (their messages already name the file, the place and the fix).
 #[derive(Debug, thiserror::Error)]
-#[error("{0}")]
-pub struct CliError(pub String);
+pub enum CliError {
+    /// A flag or an input the command itself checks is unusable.
+    #[error("{0}")]
+    Usage(String),
+    /// A file could not be read or understood.
+    #[error(transparent)]
+    Format(#[from] prehensile_formats::FormatError),
+    /// An object could not be made from a mesh, or hooked.
+    #[error(transparent)]
+    Object(#[from] prehensile_core::ObjectError),
+    /// A search could not start.
+    #[error(transparent)]
+    Search(#[from] prehensile_core::search::SearchError),
+    /// A simulation could not run.
+    #[error(transparent)]
+    Sim(#[from] prehensile_sim::SimError),
+    /// A batch could not run.
+    #[error(transparent)]
+    Batch(#[from] prehensile_batch::BatchError),
+    /// A motion could not be fitted.
+    #[error("fitting: {0}")]
+    Fit(#[from] prehensile_control::DynamicsError),
+    /// A file or folder could not be written, created or read.
+    #[error("cannot {action} {}: {source}", path.display())]
+    File {
+        /// "write", "create", "read".
+        action: &'static str,
+        /// The file.
+        path: std::path::PathBuf,
+        /// What the system said.
+        source: std::io::Error,
+    },
+    /// Standard output could not be written (closed by `| head`, or a full disk).
+    #[error("cannot write to standard output: {0}")]
+    Output(std::io::Error),
+    /// A result could not be encoded as JSON.
+    #[error("cannot encode JSON: {0}")]
+    Json(#[from] serde_json::Error),
+}
 
 impl CliError {
-    /// An error from any displayable cause.
-    pub fn from_display(e: impl std::fmt::Display) -> Self {
-        Self(e.to_string())
-    }
-
     /// Standard output could not be written.
     pub fn output(e: std::io::Error) -> Self {
-        Self(format!("cannot write to standard output: {e}"))
+        Self::Output(e)
+    }
+
+    /// A file operation `action` ("write", "create", "read") on `path` failed.
+    pub fn file(
+        action: &'static str,
+        path: &std::path::Path,
+    ) -> impl FnOnce(std::io::Error) -> Self {
+        let path = path.to_path_buf();
+        move |source| Self::File {
+            action,
+            path,
+            source,
+        }
     }
 }
 

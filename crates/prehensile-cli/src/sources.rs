@@ -8,7 +8,7 @@ use crate::CliError;
 
 /// A built-in hand by name, or a hand file.
 pub fn hand(spec: &str) -> Result<HandModel, CliError> {
-    hand_from_spec(spec).map_err(CliError::from_display)
+    hand_from_spec(spec).map_err(CliError::from)
 }
 
 /// A built-in object by name (scaled), or a mesh file, optionally repaired by welding vertices
@@ -16,17 +16,17 @@ pub fn hand(spec: &str) -> Result<HandModel, CliError> {
 pub fn object(spec: &str, scale: f64, weld: Option<f64>) -> Result<ObjectModel, CliError> {
     if let Some(w) = weld {
         if !(w.is_finite() && w > 0.0) {
-            return Err(CliError(format!(
+            return Err(CliError::Usage(format!(
                 "--weld {w} must be a positive number of metres"
             )));
         }
     }
     if !(scale.is_finite() && scale > 0.0) {
-        return Err(CliError(format!(
+        return Err(CliError::Usage(format!(
             "--scale {scale} must be a positive number"
         )));
     }
-    let (object, notes) = object_from_spec(spec, scale, weld).map_err(CliError::from_display)?;
+    let (object, notes) = object_from_spec(spec, scale, weld)?;
     for note in notes {
         eprintln!("note: {spec}: {note}");
     }

@@ -2,6 +2,8 @@
 
 use std::fmt;
 
+use prehensile_core::{HandError, MeshError, ObjectError};
+
 /// A file could not be read or understood.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
@@ -12,6 +14,26 @@ pub struct FormatError {
     pub location: Option<String>,
     /// What is wrong and how to fix it.
     pub reason: String,
+    /// The typed error of the library that refused the file's content, when one did (also
+    /// [`std::error::Error::source`]).
+    #[source]
+    pub cause: Option<Box<FormatCause>>,
+}
+
+/// Which library refused a file's content, with its typed error: callers can match on it
+/// instead of reading the message.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum FormatCause {
+    /// The hand described by the file is not a valid hand.
+    #[error(transparent)]
+    Hand(#[from] HandError),
+    /// The triangles do not make a mesh (indices, numbers, size).
+    #[error(transparent)]
+    Mesh(#[from] MeshError),
+    /// The mesh does not make a graspable object.
+    #[error(transparent)]
+    Object(#[from] ObjectError),
 }
 
 impl FormatError {
@@ -21,6 +43,7 @@ impl FormatError {
             source_name: source_name.to_string(),
             location: None,
             reason: reason.into(),
+            cause: None,
         }
     }
 
@@ -30,6 +53,19 @@ impl FormatError {
             source_name: source_name.to_string(),
             location: Some(location.into()),
             reason: reason.into(),
+            cause: None,
+        }
+    }
+
+    /// The file's content was refused by a library: the message is the library's, the typed
+    /// error is kept as the cause.
+    pub fn caused_by(source_name: &str, cause: impl Into<FormatCause>) -> Self {
+        let cause = cause.into();
+        Self {
+            source_name: source_name.to_string(),
+            location: None,
+            reason: cause.to_string(),
+            cause: Some(Box::new(cause)),
         }
     }
 }

@@ -395,8 +395,7 @@ pub fn load_hand_gltf_skinned(path: &Path) -> Result<(HandModel, SkinnedMesh), F
         couplings,
         movements,
     };
-    let hand =
-        HandModel::from_description(&desc).map_err(|e| FormatError::new(&name, e.to_string()))?;
+    let hand = HandModel::from_description(&desc).map_err(|e| FormatError::caused_by(&name, e))?;
     // The skinned mesh in the hand frame, weighted to the model's bones.
     let bone_of: Vec<u16> = (0..joints.len())
         .map(|j| {

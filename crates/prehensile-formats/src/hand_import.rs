@@ -99,7 +99,7 @@ pub fn build_in_hand_frame(
     source: &str,
     sidecar: Option<&Sidecar>,
 ) -> Result<HandModel, FormatError> {
-    let err = |e: prehensile_core::HandError| FormatError::new(source, e.to_string());
+    let err = |e: prehensile_core::HandError| FormatError::caused_by(source, e);
     if let Some(s) = sidecar {
         s.apply(&mut parts, source)?;
     }

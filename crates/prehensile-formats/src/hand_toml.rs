@@ -31,15 +31,15 @@ pub fn builtin_hand(name: &str) -> Option<HandModel> {
 
 /// Parses and validates a hand description. `source_name` names the text in errors.
 pub fn parse_hand_toml(text: &str, source_name: &str) -> Result<HandModel, FormatError> {
-    let desc: HandDescription = toml::from_str(text).map_err(|e| {
-        let location = e.span().map(|s| format!("line {}", line_of(text, s.start)));
-        FormatError {
-            source_name: source_name.to_string(),
-            location,
-            reason: e.message().to_string(),
-        }
+    let desc: HandDescription = toml::from_str(text).map_err(|e| match e.span() {
+        Some(span) => FormatError::at(
+            source_name,
+            format!("line {}", line_of(text, span.start)),
+            e.message(),
+        ),
+        None => FormatError::new(source_name, e.message()),
     })?;
-    HandModel::from_description(&desc).map_err(|e| FormatError::new(source_name, e.to_string()))
+    HandModel::from_description(&desc).map_err(|e| FormatError::caused_by(source_name, e))
 }
 
 /// Reads a hand file: `.toml` (our format), `.urdf`, `.xml` / `.mjcf` (MuJoCo) or `.glb` /

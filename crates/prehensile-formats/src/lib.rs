@@ -25,7 +25,7 @@ mod meshes;
 pub mod sources;
 
 pub use bvh::{euler_zxy, parse_bvh, write_bvh, BvhJoint, BvhMotion};
-pub use error::FormatError;
+pub use error::{FormatCause, FormatError};
 pub use file_access::{confined, read_input, read_input_text, MAX_MESH_BYTES, MAX_TEXT_BYTES};
 pub use glb::{glb_container, grasp_glb, simulation_glb};
 pub use hand_gltf::{load_hand_gltf, load_hand_gltf_skinned, SkinnedMesh};

@@ -54,7 +54,7 @@ fn parse_mesh_in(
         }
     };
     let scaled: Vec<Point3> = vertices.iter().map(|p| p * scale).collect();
-    TriangleMesh::weld(&scaled, &triangles).map_err(|e| FormatError::new(name, e.to_string()))
+    TriangleMesh::weld(&scaled, &triangles).map_err(|e| FormatError::caused_by(name, e))
 }
 
 /// Reads a mesh file and makes a graspable object of it, hooked at its centre of mass.
@@ -86,7 +86,7 @@ pub fn load_object_repaired(
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "object".into());
     let object = ObjectModel::new(&name, mesh, None)
-        .map_err(|e| FormatError::new(&path.display().to_string(), e.to_string()))?;
+        .map_err(|e| FormatError::caused_by(&path.display().to_string(), e))?;
     notes.extend(object.repairs().iter().cloned());
     Ok((object, notes))
 }

@@ -78,7 +78,7 @@ pub fn object_from_spec(
     if let Some(mesh) = builtin_object(spec) {
         return ObjectModel::new(spec, mesh.scaled(scale), None)
             .map(|o| (o, Vec::new()))
-            .map_err(|e| FormatError::new(spec, e.to_string()));
+            .map_err(|e| FormatError::caused_by(spec, e));
     }
     let path = Path::new(spec);
     if path.exists() {

@@ -258,3 +258,30 @@ fn hands_and_meshes_read_from_bytes_as_from_files() {
     let e = prehensile_formats::parse_mesh(gltf, "scene.gltf", 1.0).unwrap_err();
     assert!(e.to_string().contains("give a .glb"), "{e}");
 }
+
+#[test]
+fn the_hand_error_is_carried_typed_not_only_as_text() {
+    use prehensile_core::HandError;
+    use prehensile_formats::FormatCause;
+    let e = parse_hand_toml(
+        &CLAW.replace("parent = \"a_base\"", "parent = \"a_bse\""),
+        "claw.toml",
+    )
+    .unwrap_err();
+    assert!(
+        matches!(
+            e.cause.as_deref(),
+            Some(FormatCause::Hand(HandError::MissingParent { .. }))
+        ),
+        "{:?}",
+        e.cause
+    );
+    // And as the standard error source, for `anyhow`-style reporting chains.
+    let source = std::error::Error::source(&e).expect("a source");
+    assert_eq!(source.to_string(), e.reason);
+    // A TOML syntax error has no library cause.
+    assert!(parse_hand_toml("name = ", "x.toml")
+        .unwrap_err()
+        .cause
+        .is_none());
+}

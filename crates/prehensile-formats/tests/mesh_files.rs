@@ -82,6 +82,16 @@ fn absurd_sizes_suggest_a_scale() {
     // --scale 0.001 whichever way the size was off).
     let e = load_object(&asset("robosuite_can.obj"), 10_000.0).unwrap_err();
     assert!(e.to_string().contains("--units mm"), "{e}");
+    assert!(
+        matches!(
+            e.cause.as_deref(),
+            Some(prehensile_formats::FormatCause::Object(
+                prehensile_core::ObjectError::AbsurdSize { .. }
+            ))
+        ),
+        "{:?}",
+        e.cause
+    );
     let e = load_object(&asset("robosuite_can.obj"), 1e-5).unwrap_err();
     assert!(e.to_string().contains("--scale 1e5"), "{e}");
     assert!(read_mesh(&asset("robosuite_can.obj"), f64::NAN).is_err());

@@ -33,6 +33,9 @@ pub enum SimError {
     /// A setting or input is out of range.
     #[error("{0}")]
     Settings(String),
+    /// The grasp search for the scenario could not start.
+    #[error(transparent)]
+    Search(#[from] prehensile_core::search::SearchError),
     /// The simulation blew up; stopped before anything non-finite was written.
     #[error("the simulation diverged at t = {time:.4} s: {what}")]
     Diverged {

@@ -47,7 +47,7 @@ impl BatchProgress for Bar {
 /// Runs `prehensile batch`.
 pub fn run(args: &BatchArgs) -> Result<i32, CliError> {
     if args.seeds == 0 || args.seeds > 1_000_000 {
-        return Err(CliError(format!(
+        return Err(CliError::Usage(format!(
             "--seeds {}: give how many seeds to run, 1 to 1000000",
             args.seeds
         )));
@@ -56,18 +56,17 @@ pub fn run(args: &BatchArgs) -> Result<i32, CliError> {
         "x" => 'x',
         "y" => 'y',
         "z" => 'z',
-        other => return Err(CliError(format!("--up {other}: use x, y or z"))),
+        other => return Err(CliError::Usage(format!("--up {other}: use x, y or z"))),
     };
     let plan = BatchPlan {
         hands: args.hands.clone(),
-        objects: expand_objects(&args.objects).map_err(CliError::from_display)?,
+        objects: expand_objects(&args.objects)?,
         movements: args.movements.clone(),
         shoulders: args
             .shoulders
             .iter()
             .map(|s| Shoulder::parse(s))
-            .collect::<Result<_, _>>()
-            .map_err(CliError::from_display)?,
+            .collect::<Result<_, _>>()?,
         seeds: (1..=args.seeds).collect(),
         options: BatchOptions {
             scale: args.mesh_options.factor(),
@@ -89,14 +88,14 @@ pub fn run(args: &BatchArgs) -> Result<i32, CliError> {
     let mut pool = rayon::ThreadPoolBuilder::new();
     if let Some(n) = args.threads {
         if n == 0 || n > 4096 {
-            return Err(CliError(format!("--threads {n}: use 1 to 4096")));
+            return Err(CliError::Usage(format!("--threads {n}: use 1 to 4096")));
         }
         pool = pool.num_threads(n);
     }
-    let pool = pool.build().map_err(CliError::from_display)?;
-    let summary = pool
-        .install(|| run_batch(&plan, &args.out, args.flush_rows, &progress))
-        .map_err(CliError::from_display)?;
+    let pool = pool
+        .build()
+        .map_err(|e| CliError::Usage(format!("cannot start the worker threads: {e}")))?;
+    let summary = pool.install(|| run_batch(&plan, &args.out, args.flush_rows, &progress))?;
     progress.bar.finish_and_clear();
     out!(
         "{} attempts in {}: this run made {} ({} valid, {} invalid, {} errors) in {} part file(s); {} were already there",

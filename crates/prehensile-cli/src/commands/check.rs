@@ -7,11 +7,10 @@ use crate::CliError;
 
 /// Prints the mesh report; exit code 2 when the mesh has defects.
 pub fn run(args: &CheckArgs) -> Result<i32, CliError> {
-    let mut mesh =
-        read_mesh(&args.mesh, args.mesh_options.factor()).map_err(CliError::from_display)?;
+    let mut mesh = read_mesh(&args.mesh, args.mesh_options.factor())?;
     if let Some(w) = args.mesh_options.weld {
         if !(w.is_finite() && w > 0.0) {
-            return Err(CliError(format!(
+            return Err(CliError::Usage(format!(
                 "--weld {w} must be a positive number of metres"
             )));
         }
@@ -23,10 +22,7 @@ pub fn run(args: &CheckArgs) -> Result<i32, CliError> {
     let check = prehensile_core::object::MeshCheck::new(&name, mesh);
     let (report, parts, repairs) = (&check.report, check.parts, &check.repairs);
     if args.json {
-        out!(
-            "{}",
-            serde_json::to_string_pretty(&check).map_err(CliError::from_display)?
-        );
+        out!("{}", serde_json::to_string_pretty(&check)?);
     } else {
         out!("{}", args.mesh.display());
         out!("  triangles           {}", report.triangles);

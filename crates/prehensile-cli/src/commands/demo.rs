@@ -14,8 +14,7 @@ use prehensile_core::search::{default_shoulder, GraspRequest, SearchParams, AUTO
 
 /// Runs the demo and writes `<hand>-<object>.json`, `.svg` and an `index.html` gallery.
 pub fn run(args: &DemoArgs) -> Result<i32, CliError> {
-    std::fs::create_dir_all(&args.out)
-        .map_err(|e| CliError(format!("cannot create {}: {e}", args.out.display())))?;
+    std::fs::create_dir_all(&args.out).map_err(crate::CliError::file("create", &args.out))?;
     let hands: Vec<_> = BUILTIN_HANDS
         .iter()
         .map(|h| sources::hand(h))
@@ -50,7 +49,7 @@ pub fn run(args: &DemoArgs) -> Result<i32, CliError> {
             };
             let (result, took) = search(hand, object, &request, false)?;
             let stem = format!("{}-{}", hand.name(), object.name());
-            let json = serde_json::to_string_pretty(&result).map_err(CliError::from_display)?;
+            let json = serde_json::to_string_pretty(&result)?;
             write(&args.out.join(format!("{stem}.json")), &json)?;
             write(
                 &args.out.join(format!("{stem}.svg")),
@@ -58,7 +57,7 @@ pub fn run(args: &DemoArgs) -> Result<i32, CliError> {
             )?;
             let glb = args.out.join(format!("{stem}.glb"));
             std::fs::write(&glb, glb_bytes(hand, object, &result, None)?)
-                .map_err(|e| CliError(format!("cannot write {}: {e}", glb.display())))?;
+                .map_err(crate::CliError::file("write", &glb))?;
             if !result.valid {
                 invalid += 1;
             }

@@ -20,11 +20,10 @@ pub fn run(args: &FitArgs) -> Result<i32, CliError> {
         Some(path) => (read_motion(&hand, path)?, false),
         None => {
             let object = sources::object(&args.object, 1.0, None)?;
-            let grasp = prehensile_sim::scenarios::plan_grasp(&hand, &object)
-                .map_err(CliError::from_display)?;
+            let grasp = prehensile_sim::scenarios::plan_grasp(&hand, &object)?;
             let motion = grasp.example(&hand, &gains);
             let path = args.out.with_extension("motion.json");
-            let json = serde_json::to_string_pretty(&motion).map_err(CliError::from_display)?;
+            let json = serde_json::to_string_pretty(&motion)?;
             super::write_file(&path, json.as_bytes())?;
             out!(
                 "wrote {} (the synthetic example of a grasp of '{}')",
@@ -36,8 +35,7 @@ pub fn run(args: &FitArgs) -> Result<i32, CliError> {
     };
     // The example's wrist is upright: gravity along the palm frame's −z by default.
     let base = BaseMotion::at_rest(Vec3::new(0.0, 0.0, -9.81));
-    let controller = fit_controller(&hand, &motion, gains, open_while_closing, &base)
-        .map_err(|e| CliError(format!("fitting: {e}")))?;
+    let controller = fit_controller(&hand, &motion, gains, open_while_closing, &base)?;
     let text = ControllerFile::new(&hand, &controller).to_toml();
     super::write_file(&args.out, text.as_bytes())?;
     out!(
@@ -52,24 +50,22 @@ pub fn run(args: &FitArgs) -> Result<i32, CliError> {
 
 /// A motion from JSON (`prehensile.motion/1`) or BVH.
 fn read_motion(hand: &HandModel, path: &Path) -> Result<Motion, CliError> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| CliError(format!("cannot read {}: {e}", path.display())))?;
+    let text = std::fs::read_to_string(path).map_err(crate::CliError::file("read", path))?;
     let source = path.display().to_string();
     let is_bvh = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("bvh"));
     if !is_bvh {
-        let motion: Motion = serde_json::from_str(&text)
-            .map_err(|e| CliError(format!("{source}: {e} (expected {MOTION_SCHEMA} JSON)")))?;
+        let motion: Motion = serde_json::from_str(&text).map_err(|e| {
+            CliError::Usage(format!("{source}: {e} (expected {MOTION_SCHEMA} JSON)"))
+        })?;
         motion
             .check(hand.dof_names())
-            .map_err(|e| CliError(format!("{source}: {e}")))?;
+            .map_err(|e| CliError::Usage(format!("{source}: {e}")))?;
         return Ok(motion);
     }
-    let bvh = prehensile_formats::parse_bvh(&text, &source).map_err(CliError::from_display)?;
-    let frames = bvh
-        .joint_angles(hand, &source)
-        .map_err(CliError::from_display)?;
+    let bvh = prehensile_formats::parse_bvh(&text, &source)?;
+    let frames = bvh.joint_angles(hand, &source)?;
     // Distance: how far the root is from where it is at the most closed frame.
     let closed = (0..frames.len())
         .max_by(|&a, &b| {
@@ -82,7 +78,7 @@ fn read_motion(hand: &HandModel, path: &Path) -> Result<Motion, CliError> {
         .filter_map(|c| bvh.joints.first()?.channels.iter().position(|n| n == c))
         .collect();
     if root_channels.len() != 3 {
-        return Err(CliError(format!(
+        return Err(CliError::Usage(format!(
             "{source}: the root joint has no X/Y/Z position channels, so the hand–object distance is unknown; write a {MOTION_SCHEMA} JSON with distances instead"
         )));
     }
@@ -100,6 +96,6 @@ fn read_motion(hand: &HandModel, path: &Path) -> Result<Motion, CliError> {
     };
     motion
         .check(hand.dof_names())
-        .map_err(|e| CliError(format!("{source}: {e}")))?;
+        .map_err(|e| CliError::Usage(format!("{source}: {e}")))?;
     Ok(motion)
 }

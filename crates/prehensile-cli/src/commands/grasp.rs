@@ -67,7 +67,7 @@ pub fn search(
         movement: String::new(),
         best: None,
     };
-    let result = find_grasp(hand, object, request, &mut sink).map_err(CliError::from_display);
+    let result = find_grasp(hand, object, request, &mut sink).map_err(CliError::from);
     sink.bar.finish_and_clear();
     Ok((result?, began.elapsed()))
 }
@@ -78,7 +78,7 @@ fn keyframes(
     result: &GraspResult,
 ) -> Result<Vec<prehensile_core::animation::Keyframe>, CliError> {
     let movement = hand.movement(&result.movement).ok_or_else(|| {
-        CliError(format!(
+        CliError::Usage(format!(
             "the result names movement '{}', which the hand lacks",
             result.movement
         ))
@@ -123,7 +123,7 @@ pub fn up_axis(s: &str) -> Result<Vec3, CliError> {
         "x" => Ok(Vec3::x()),
         "y" => Ok(Vec3::y()),
         "z" => Ok(Vec3::z()),
-        other => Err(CliError(format!("--up {other}: use x, y or z"))),
+        other => Err(CliError::Usage(format!("--up {other}: use x, y or z"))),
     }
 }
 
@@ -137,9 +137,7 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
         args.mesh_options.weld,
     )?;
     if let Some(h) = args.hook {
-        object = object
-            .with_hooks(vec![Point3::from(h)])
-            .map_err(CliError::from_display)?;
+        object = object.with_hooks(vec![Point3::from(h)])?;
     }
     let up = up_axis(&args.up)?;
     let hook = object.hooks()[0];
@@ -152,7 +150,7 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
             Some(Duration::from_secs_f64(ms / 1000.0))
         }
         Some(ms) => {
-            return Err(CliError(format!(
+            return Err(CliError::Usage(format!(
                 "--budget-ms {ms:e} must be a positive number of milliseconds, at most {MAX_BUDGET_MS} (a day)"
             )))
         }
@@ -185,24 +183,19 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
     let setup_ms = setup.elapsed().as_secs_f64() * 1e3;
     let (result, took) = search(&hand, &object, &request, true)?;
     let hold = if args.hold {
-        Some(
-            prehensile_sim::scenarios::hold_test_of_result(&hand, &object, &result)
-                .map_err(CliError::from_display)?,
-        )
+        Some(prehensile_sim::scenarios::hold_test_of_result(
+            &hand, &object, &result,
+        )?)
     } else {
         None
     };
-    let mut record = serde_json::to_value(&result).map_err(CliError::from_display)?;
+    let mut record = serde_json::to_value(&result)?;
     if let (Some(h), Some(map)) = (&hold, record.as_object_mut()) {
-        map.insert(
-            "hold".into(),
-            serde_json::to_value(h).map_err(CliError::from_display)?,
-        );
+        map.insert("hold".into(), serde_json::to_value(h)?);
     }
-    let json = serde_json::to_string_pretty(&record).map_err(CliError::from_display)?;
+    let json = serde_json::to_string_pretty(&record)?;
     match &args.out {
-        Some(path) => std::fs::write(path, &json)
-            .map_err(|e| CliError(format!("cannot write {}: {e}", path.display())))?,
+        Some(path) => std::fs::write(path, &json).map_err(crate::CliError::file("write", path))?,
         None if args.svg.is_none() && args.glb.is_none() && args.bvh.is_none() => {
             out!("{json}")
         }
@@ -214,25 +207,20 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
             .iter()
             .any(|e| args.hand.to_ascii_lowercase().ends_with(e));
         let skin = if is_gltf {
-            Some(
-                prehensile_formats::load_hand_gltf_skinned(std::path::Path::new(&args.hand))
-                    .map_err(CliError::from_display)?
-                    .1,
-            )
+            Some(prehensile_formats::load_hand_gltf_skinned(std::path::Path::new(&args.hand))?.1)
         } else {
             None
         };
         std::fs::write(path, glb_bytes(&hand, &object, &result, skin.as_ref())?)
-            .map_err(|e| CliError(format!("cannot write {}: {e}", path.display())))?;
+            .map_err(crate::CliError::file("write", path))?;
     }
     if let Some(path) = &args.bvh {
         let text = prehensile_formats::write_bvh(&hand, &keyframes(&hand, &result)?, 12.0);
-        std::fs::write(path, text)
-            .map_err(|e| CliError(format!("cannot write {}: {e}", path.display())))?;
+        std::fs::write(path, text).map_err(crate::CliError::file("write", path))?;
     }
     if let Some(path) = &args.svg {
         std::fs::write(path, picture::grasp_svg(&object, &result))
-            .map_err(|e| CliError(format!("cannot write {}: {e}", path.display())))?;
+            .map_err(crate::CliError::file("write", path))?;
     }
     let status = if result.valid {
         "valid grasp".to_string()

@@ -107,7 +107,7 @@ fn summary(h: &HandModel) -> HandSummary {
 /// Lists or describes hands.
 pub fn run(args: &HandsArgs) -> Result<i32, CliError> {
     let hands: Vec<HandModel> = match &args.file {
-        Some(path) => vec![prehensile_formats::load_hand(path).map_err(CliError::from_display)?],
+        Some(path) => vec![prehensile_formats::load_hand(path)?],
         None => BUILTIN_HANDS
             .iter()
             .filter_map(|n| builtin_hand(n))
@@ -115,10 +115,7 @@ pub fn run(args: &HandsArgs) -> Result<i32, CliError> {
     };
     let summaries: Vec<HandSummary> = hands.iter().map(summary).collect();
     if args.json {
-        out!(
-            "{}",
-            serde_json::to_string_pretty(&summaries).map_err(CliError::from_display)?
-        );
+        out!("{}", serde_json::to_string_pretty(&summaries)?);
         return Ok(0);
     }
     out!(

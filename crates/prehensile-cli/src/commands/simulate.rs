@@ -12,7 +12,7 @@ use crate::{sources, CliError};
 /// Runs the command; exit code 0, or 1 when the run diverged.
 pub fn run(args: &SimulateArgs) -> Result<i32, CliError> {
     let scenario = Scenario::from_name(&args.scenario).ok_or_else(|| {
-        CliError(format!(
+        CliError::Usage(format!(
             "unknown scenario '{}'; choose one of {}",
             args.scenario,
             Scenario::NAMES.join(", ")
@@ -57,10 +57,9 @@ pub fn run(args: &SimulateArgs) -> Result<i32, CliError> {
         bar.set_message(label.to_string());
         bar.set_position((fraction * 1000.0) as u64);
     };
-    let (report, recording) =
-        scenarios::run(scenario, &options, &mut progress).map_err(CliError::from_display)?;
+    let (report, recording) = scenarios::run(scenario, &options, &mut progress)?;
     bar.finish_and_clear();
-    let json = serde_json::to_string_pretty(&report).map_err(CliError::from_display)?;
+    let json = serde_json::to_string_pretty(&report)?;
     write(&args.out, json.as_bytes())?;
     for case in &report.cases {
         let held = case.held.map_or(String::new(), |h| format!(", held {h}"));

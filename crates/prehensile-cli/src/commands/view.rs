@@ -16,17 +16,17 @@ const MAX_LINE: u64 = 8192;
 pub fn run(args: &ViewArgs) -> Result<i32, CliError> {
     let index = args.dir.join("index.html");
     if !index.is_file() || !args.dir.join("main.js").is_file() {
-        return Err(CliError(format!(
+        return Err(CliError::Usage(format!(
             "{} holds no built viewer (index.html, main.js); build it with `bash tools/viewer/build.sh` \
              (needs the wasm32-unknown-unknown target, wasm-bindgen and npm), or pass --dir",
             args.dir.display()
         )));
     }
     let listener = TcpListener::bind(("127.0.0.1", args.port))
-        .map_err(|e| CliError(format!("cannot listen on 127.0.0.1:{}: {e}", args.port)))?;
+        .map_err(|e| CliError::Usage(format!("cannot listen on 127.0.0.1:{}: {e}", args.port)))?;
     let port = listener
         .local_addr()
-        .map_err(CliError::from_display)?
+        .map_err(|e| CliError::Usage(format!("cannot listen on 127.0.0.1:{}: {e}", args.port)))?
         .port();
     out!(
         "serving the viewer from {} at http://127.0.0.1:{port}/ (Ctrl-C stops)",

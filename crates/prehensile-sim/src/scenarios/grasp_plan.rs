@@ -36,8 +36,7 @@ pub fn plan_grasp(hand: &HandModel, object: &ObjectModel) -> Result<PlannedGrasp
         .ok_or_else(|| SimError::Hand(format!("hand '{}' has no movement", hand.name())))?;
     let hook = object.center_of_mass();
     let shoulder = default_shoulder(hand, &hook, &Vec3::z());
-    let mut planner = GraspPlanner::new(hand, object, movement, shoulder, SearchParams::default())
-        .map_err(|e| SimError::Object(e.to_string()))?;
+    let mut planner = GraspPlanner::new(hand, object, movement, shoulder, SearchParams::default())?;
     planner.run_to_end();
     let best = planner.best().cloned().ok_or_else(|| {
         SimError::Object(format!(
