@@ -123,8 +123,39 @@ struct Defaults {
 }
 
 impl Defaults {
-    fn collect(node: Node, parent: Option<&str>, out: &mut HashMap<String, ClassDefaults>) {
-        let class = node.attribute("class").unwrap_or("main").to_string();
+    /// Reads a `<default>` element and the ones nested in it. A nested default must name a class
+    /// not defined before (MuJoCo refuses the same): a repeated or missing name would let a class
+    /// inherit from itself.
+    fn collect(
+        node: Node,
+        parent: Option<&str>,
+        out: &mut HashMap<String, ClassDefaults>,
+        source: &str,
+    ) -> Result<(), FormatError> {
+        let at = || {
+            format!(
+                "line {}",
+                node.document().text_pos_at(node.range().start).row
+            )
+        };
+        let class = match (node.attribute("class"), parent) {
+            (Some(c), _) => c.to_string(),
+            (None, None) => "main".to_string(),
+            (None, Some(_)) => {
+                return Err(FormatError::at(
+                    source,
+                    at(),
+                    "a nested <default> needs a class attribute",
+                ))
+            }
+        };
+        if parent.is_some() && out.contains_key(&class) {
+            return Err(FormatError::at(
+                source,
+                at(),
+                format!("default class '{class}' is defined twice; give each class its own name"),
+            ));
+        }
         let mut kinds = HashMap::new();
         for c in node
             .children()
@@ -138,8 +169,9 @@ impl Defaults {
         }
         out.insert(class.clone(), (parent.map(str::to_string), kinds));
         for c in node.children().filter(|c| c.has_tag_name("default")) {
-            Self::collect(c, Some(&class), out);
+            Self::collect(c, Some(&class), out, source)?;
         }
+        Ok(())
     }
 
     fn get(&self, node: Node, class: &str, name: &str) -> Option<String> {
@@ -147,7 +179,10 @@ impl Defaults {
             return Some(v.to_string());
         }
         let mut at = Some(class.to_string());
-        while let Some(c) = at {
+        // Every class at most once: an implicit step up to "main" could otherwise close a loop
+        // (a class "main" nested in another).
+        let mut steps = 0..=self.classes.len();
+        while let (Some(c), Some(_)) = (at, steps.next()) {
             let (parent, kinds) = self.classes.get(&c)?;
             if let Some(v) = kinds
                 .get(node.tag_name().name())
@@ -197,7 +232,7 @@ pub fn parse_hand_mjcf_with(
     let angle = |v: f64| if degrees { v.to_radians() } else { v };
     let mut classes = HashMap::new();
     for d in root.children().filter(|n| n.has_tag_name("default")) {
-        Defaults::collect(d, None, &mut classes);
+        Defaults::collect(d, None, &mut classes, source)?;
     }
     let defaults = Defaults { classes };
     for node in root
@@ -629,4 +664,25 @@ pub fn parse_hand_mjcf_with(
         );
     }
     build_in_hand_frame(parts, source, sidecar)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_class_main_nested_under_another_does_not_make_lookups_loop() {
+        // <default class="outer"><default class="main">...: main's parent is outer, whose
+        // implicit parent is main again.
+        let text = r#"<mujoco><default class="outer"><default class="main"><joint damping="1"/></default></default><worldbody><geom/></worldbody></mujoco>"#;
+        let doc = roxmltree::Document::parse(text).unwrap();
+        let mut classes = HashMap::new();
+        let root = doc.root_element();
+        for d in root.children().filter(|n| n.has_tag_name("default")) {
+            Defaults::collect(d, None, &mut classes, "x.xml").unwrap();
+        }
+        let defaults = Defaults { classes };
+        let geom = root.descendants().find(|n| n.has_tag_name("geom")).unwrap();
+        assert_eq!(defaults.get(geom, "main", "size"), None);
+    }
 }

@@ -214,3 +214,31 @@ fn the_shadow_hands_derived_movements_keep_side_by_side_fingers_apart() {
         );
     }
 }
+
+#[test]
+fn default_classes_that_would_inherit_from_themselves_are_refused() {
+    // Found by `cargo fuzz run hand_mjcf` (10 min): a nested <default> without a class was
+    // "main" again, its own parent, and attribute lookup looped forever.
+    let shared = std::fs::read_to_string(shadow("shared.xml")).unwrap();
+    let defaults =
+        &shared[shared.find("<default>").unwrap()..shared.rfind("</default>").unwrap() + 10];
+    let robot = std::fs::read_to_string(shadow("robot.xml")).unwrap();
+    let with = |defaults: &str| {
+        robot.replacen(
+            "<mujoco>",
+            &format!("<mujoco><compiler angle=\"radian\"/>{defaults}"),
+            1,
+        )
+    };
+    let unnamed = defaults.replacen("<default class=\"robot0:D_Touch\">", "<default>", 1);
+    let e = parse_hand_mjcf(&with(&unnamed), "robot.xml").unwrap_err();
+    assert!(e.reason.contains("needs a class attribute"), "{e}");
+    assert!(e.location.is_some(), "{e}");
+    let twice = defaults.replacen(
+        "<default class=\"robot0:D_Touch\">",
+        "<default class=\"robot0:asset_class\">",
+        1,
+    );
+    let e = parse_hand_mjcf(&with(&twice), "robot.xml").unwrap_err();
+    assert!(e.reason.contains("defined twice"), "{e}");
+}
