@@ -58,7 +58,10 @@ try {
   await page.waitForFunction(() => window.prehensile.state.restarts >= 1, null, { timeout: 10_000 });
   await page.waitForFunction(() => window.prehensile.state.status !== 'searching' && window.prehensile.state.result?.valid === true, null, { timeout: 120_000 });
   const second = await page.evaluate(() => window.prehensile.state);
-  console.log(`re-grasped after the drag (${second.restarts} restart): ${second.result.fingers_touching.join(', ')}, ${second.frameMs.toFixed(2)} ms of search in the last frame`);
+  // Reported, not asserted (timings are for benchmarks): the budget is the page's default 4 ms.
+  const times = [...second.frameTimes].sort((a, b) => a - b);
+  const median = times[Math.floor(times.length / 2)];
+  console.log(`re-grasped after the drag (${second.restarts} restart): ${second.result.fingers_touching.join(', ')}; search per frame over the ${times.length} frames since the restart: median ${median.toFixed(2)} ms, most ${times[times.length - 1].toFixed(2)} ms`);
   assert.notDeepStrictEqual(second.result.wrist, first.wrist);
   await page.screenshot({ path: `${out}/viewer-regrasp.png` });
   assert.ok((await colours()) > 50);

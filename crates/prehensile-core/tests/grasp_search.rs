@@ -300,6 +300,54 @@ fn turning_the_character_restarts_the_search() {
         * Point3::new(-0.4, 0.0, 0.3);
     assert!(p.set_shoulder(large).unwrap());
     assert_eq!(p.stats().restarts, 1);
+    // The restart's work runs in slices, so a game frame that works in slices keeps to its
+    // budget: 64 initial-approximation samples, 6 a slice, then one slice evaluating the start.
+    // Until then the current pose is not evaluated and nothing is best.
+    let steps_before = p.stats().steps;
+    let mut slices = 0;
+    while p.restarting() {
+        assert!(p.best().is_none());
+        assert!(matches!(
+            p.current().validity,
+            Err(prehensile_core::search::Invalid::NotEvaluated)
+        ));
+        let placements = p.stats().placements;
+        p.slice();
+        slices += 1;
+        // One TranslateToFree per sample: a few dozen placements each at most.
+        assert!(
+            p.stats().placements - placements < 6 * 200,
+            "slice {slices}"
+        );
+    }
+    assert_eq!(slices, 64usize.div_ceil(6) + 1);
+    assert_eq!(
+        p.stats().steps,
+        steps_before,
+        "slices are not optimization steps"
+    );
+    assert!(p.current().validity != Err(prehensile_core::search::Invalid::NotEvaluated));
+    // With one thread, a step's slices are its candidates, one each (seven-pose: six).
+    let single = SearchParams {
+        threads: 1,
+        ..Default::default()
+    };
+    let mut q = GraspPlanner::new(&hand, &object, m, Point3::new(-0.4, 0.0, 0.3), single).unwrap();
+    while q.restarting() {
+        q.slice();
+    }
+    let (steps, evaluations) = (q.stats().steps, q.stats().evaluations);
+    for _ in 0..5 {
+        q.slice();
+        assert_eq!(
+            q.stats().steps,
+            steps,
+            "a step ends with its last candidate"
+        );
+    }
+    q.slice();
+    assert_eq!(q.stats().steps, steps + 1);
+    assert_eq!(q.stats().evaluations, evaluations + 6);
     p.run_to_end();
     let r = GraspResult::from_planner(&p, &mut Workspace::new(&hand));
     assert_grasp(&object, &r, "after restart");

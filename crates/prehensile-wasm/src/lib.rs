@@ -163,6 +163,15 @@ impl Session {
         self.planner.with_mut(|p| p.run_to_end());
     }
 
+    /// How far the search is, as "steps/evaluations": cheap, for deciding whether to ask for
+    /// [`Session::result_json`] (which poses the hand and computes its contacts) this frame.
+    pub fn progress(&self) -> String {
+        self.planner.with(|p| {
+            let stats = p.stats();
+            format!("{}/{}", stats.steps, stats.evaluations)
+        })
+    }
+
     /// The best valid grasp so far, or the current pose marked not valid, as the CLI's JSON.
     pub fn result_json(&self) -> Result<String, JsError> {
         serde_json::to_string(&self.planner.result()).map_err(js)

@@ -13,9 +13,9 @@ use crate::movement::GraspMovement;
 use crate::object::ObjectModel;
 use crate::workspace::Workspace;
 
-use super::initial_approximation::initial_approximation;
+use super::initial_approximation::InitialApproximation;
 use super::optimization_step::{step_candidates, StepKind};
-use super::quality::{Evaluation, EvaluationContext, QualityWeights, ValidityRule};
+use super::quality::{Evaluation, EvaluationContext, Invalid, QualityWeights, ValidityRule};
 use super::random::SplitMix64;
 use super::start_position::{nearest_hook, start_rotation};
 use super::translate_to_free::TranslateMode;
@@ -193,7 +193,27 @@ pub struct GraspPlanner<'a> {
     results: Vec<Option<Evaluation>>,
     /// The sink has heard of the current best valid pose.
     best_told: bool,
+    /// A restart's work not done yet: it runs in slices.
+    restarting: Option<Restart>,
+    /// Candidates of the step in progress (0: none in progress).
+    step_size: usize,
+    /// How many of them are evaluated.
+    evaluated: usize,
 }
+
+/// What a restart still has to do before optimization steps begin.
+#[derive(Debug, Clone)]
+enum Restart {
+    /// Sampling hook rotations (§5.6.2.1).
+    Sampling(InitialApproximation),
+    /// Evaluating the rotation to start from.
+    Evaluating(Rotation),
+}
+
+/// Initial-approximation samples per slice: each is one TranslateToFree, so a slice costs about
+/// what one candidate of a step does, and the 64 samples take 11 slices instead of one call of
+/// 40–100 ms.
+const SAMPLES_PER_SLICE: usize = 6;
 
 impl<'a> GraspPlanner<'a> {
     /// Sets up the search: nearest hook, starting position (or the initial approximation), and
@@ -271,29 +291,55 @@ impl<'a> GraspPlanner<'a> {
             candidates: [Rotation::identity(); 6],
             results: vec![None; 6],
             best_told: false,
+            restarting: None,
+            step_size: 0,
+            evaluated: 0,
             params,
         };
         planner.restart();
         Ok(planner)
     }
 
-    /// Starts again from the starting position of the current shoulder.
+    /// Starts again from the starting position of the current shoulder. The work (sampling,
+    /// then evaluating the start) is done by the next step calls, a slice each.
     fn restart(&mut self) {
-        let began = Instant::now();
-        let mut rotation = self.ctx.start;
-        if self.params.initial_approximation {
-            if let Some((r, _)) = initial_approximation(&self.ctx, &mut self.workspaces[0]) {
-                rotation = r;
-            }
-        }
-        self.current = self.ctx.evaluate(&rotation, &mut self.workspaces[0]);
-        self.stats.evaluations += 1;
+        self.restarting = Some(if self.params.initial_approximation {
+            Restart::Sampling(InitialApproximation::new())
+        } else {
+            Restart::Evaluating(self.ctx.start)
+        });
+        self.current = placeholder(self.ctx.start);
         self.best_valid = None;
-        self.consider_best(&self.current.clone());
         self.status = PlannerStatus::Searching;
         self.since_improvement = 0;
-        self.collect_counters();
-        self.stats.seconds += began.elapsed().as_secs_f64();
+        // A step in progress was around the old start: drop it.
+        self.step_size = 0;
+        self.results.iter_mut().for_each(|r| *r = None);
+    }
+
+    /// One slice of a restart's work.
+    fn continue_restart(&mut self, restart: Restart) {
+        self.restarting = match restart {
+            Restart::Sampling(mut sampling) => {
+                let done = sampling.advance(&self.ctx, &mut self.workspaces[0], SAMPLES_PER_SLICE);
+                Some(if done {
+                    Restart::Evaluating(sampling.best().map_or(self.ctx.start, |(r, _)| r))
+                } else {
+                    Restart::Sampling(sampling)
+                })
+            }
+            Restart::Evaluating(rotation) => {
+                self.current = self.ctx.evaluate(&rotation, &mut self.workspaces[0]);
+                self.stats.evaluations += 1;
+                self.consider_best(&self.current.clone());
+                None
+            }
+        };
+    }
+
+    /// Is a restart's work (the initial approximation, the first evaluation) still running?
+    pub fn restarting(&self) -> bool {
+        self.restarting.is_some()
     }
 
     fn consider_best(&mut self, e: &Evaluation) {
@@ -322,22 +368,73 @@ impl<'a> GraspPlanner<'a> {
         self.step_into(&mut ())
     }
 
-    /// One step, telling `sink` what happened.
+    /// One optimization step, telling `sink` what happened: first any restart's remaining work,
+    /// then the rest of the step in progress or a whole new one.
     pub fn step_into(&mut self, sink: &mut dyn SearchSink) -> PlannerStatus {
+        let steps = self.stats.steps;
+        while self.status == PlannerStatus::Searching && self.stats.steps == steps {
+            self.slice_into(sink);
+        }
+        self.status
+    }
+
+    /// The smallest unit of work, for game loops with a frame budget: one slice of a restart
+    /// (six initial-approximation samples, or the start's evaluation), or one candidate of the
+    /// step in progress (all of them when the planner has several threads). `sink` hears of a
+    /// step when its last candidate is done.
+    pub fn slice(&mut self) -> PlannerStatus {
+        self.slice_into(&mut ())
+    }
+
+    /// [`GraspPlanner::slice`], telling `sink`.
+    pub fn slice_into(&mut self, sink: &mut dyn SearchSink) -> PlannerStatus {
         if self.status != PlannerStatus::Searching {
             return self.status;
         }
         let began = Instant::now();
-        let angle = self.rng.uniform(0.0, self.params.max_angle);
-        let n = step_candidates(
-            self.params.step,
-            &self.current.rotation,
-            angle,
-            self.axis,
-            &mut self.candidates,
-        );
-        self.axis = (self.axis + 1) % 3;
-        self.evaluate_candidates(n);
+        let mut step_done = false;
+        if let Some(restart) = self.restarting.take() {
+            self.continue_restart(restart);
+        } else {
+            if self.step_size == 0 {
+                let angle = self.rng.uniform(0.0, self.params.max_angle);
+                self.step_size = step_candidates(
+                    self.params.step,
+                    &self.current.rotation,
+                    angle,
+                    self.axis,
+                    &mut self.candidates,
+                );
+                self.axis = (self.axis + 1) % 3;
+                self.evaluated = 0;
+            }
+            let until = if self.workspaces.len() > 1 {
+                self.step_size
+            } else {
+                self.evaluated + 1
+            };
+            self.evaluate_candidates(self.evaluated, until);
+            self.evaluated = until;
+            if self.evaluated == self.step_size {
+                self.finish_step();
+                step_done = true;
+            }
+        }
+        self.collect_counters();
+        self.stats.seconds += began.elapsed().as_secs_f64();
+        if let Some(best) = self.best_valid.as_ref().filter(|_| !self.best_told) {
+            sink.improved(best);
+            self.best_told = true;
+        }
+        if step_done {
+            sink.step(&self.stats, &self.current);
+        }
+        self.status
+    }
+
+    /// Ends the step whose candidates are all evaluated: move to the best, apply the stop rule.
+    fn finish_step(&mut self) {
+        let n = std::mem::take(&mut self.step_size);
         self.stats.evaluations += n as u64;
         self.stats.steps += 1;
         let mut improved = false;
@@ -370,23 +467,18 @@ impl<'a> GraspPlanner<'a> {
             _ if self.stats.steps >= self.params.max_steps => PlannerStatus::StepLimit,
             _ => PlannerStatus::Searching,
         };
-        self.collect_counters();
-        self.stats.seconds += began.elapsed().as_secs_f64();
-        if let Some(best) = self.best_valid.as_ref().filter(|_| !self.best_told) {
-            sink.improved(best);
-            self.best_told = true;
-        }
-        sink.step(&self.stats, &self.current);
-        self.status
     }
 
-    fn evaluate_candidates(&mut self, n: usize) {
+    /// Evaluates candidates `from..to` of the step in progress into `results`.
+    fn evaluate_candidates(&mut self, from: usize, to: usize) {
         let ctx = &self.ctx;
-        let candidates = &self.candidates[..n];
+        let candidates = &self.candidates[from..to];
+        let results = &mut self.results[from..to];
+        let n = to - from;
         let threads = self.workspaces.len().min(n);
         if threads <= 1 {
             let ws = &mut self.workspaces[0];
-            for (slot, r) in self.results.iter_mut().zip(candidates) {
+            for (slot, r) in results.iter_mut().zip(candidates) {
                 *slot = Some(ctx.evaluate(r, ws));
             }
             return;
@@ -397,7 +489,7 @@ impl<'a> GraspPlanner<'a> {
                 .workspaces
                 .iter_mut()
                 .zip(candidates.chunks(per))
-                .zip(self.results[..n].chunks_mut(per))
+                .zip(results.chunks_mut(per))
             {
                 scope.spawn(move || {
                     for (slot, r) in slots.iter_mut().zip(rotations) {
@@ -413,11 +505,18 @@ impl<'a> GraspPlanner<'a> {
         self.run_for_into(budget, &mut ())
     }
 
-    /// Steps until the time budget is spent or the search stops, telling `sink`.
+    /// Works in [slices](GraspPlanner::slice) until the time budget is spent or the search
+    /// stops, telling `sink`. At least one slice is done; another only when, judged by the last
+    /// one's duration, it should end within the budget — so a game frame's budget is overrun
+    /// only by a single slice longer than it.
     pub fn run_for_into(&mut self, budget: Duration, sink: &mut dyn SearchSink) -> PlannerStatus {
         let began = Instant::now();
-        while self.status == PlannerStatus::Searching && began.elapsed() < budget {
-            self.step_into(sink);
+        while self.status == PlannerStatus::Searching {
+            let slice_began = Instant::now();
+            self.slice_into(sink);
+            if began.elapsed() + slice_began.elapsed() > budget {
+                break;
+            }
         }
         self.status
     }
@@ -445,6 +544,7 @@ impl<'a> GraspPlanner<'a> {
         )?;
         self.ctx.shoulder = shoulder;
         let direction = horizontal(&(self.ctx.hook - shoulder), &self.params.up);
+        let pending = self.restarting.is_some();
         let turned = direction.dot(&self.reach_direction).clamp(-1.0, 1.0).acos();
         if turned > self.params.restart_angle {
             self.ctx.start = start;
@@ -453,6 +553,12 @@ impl<'a> GraspPlanner<'a> {
             self.restart();
             return Ok(true);
         }
+        if pending {
+            // The restart in progress evaluates with the new shoulder.
+            return Ok(false);
+        }
+        // Candidates of a step in progress were partly scored with the old shoulder: drop it.
+        self.step_size = 0;
         self.current = self
             .ctx
             .evaluate(&self.current.rotation, &mut self.workspaces[0]);
@@ -494,6 +600,7 @@ impl<'a> GraspPlanner<'a> {
     }
 }
 
+/// The current pose before a (re)start has evaluated one.
 fn placeholder(rotation: Rotation) -> Evaluation {
     Evaluation {
         rotation,
@@ -501,7 +608,7 @@ fn placeholder(rotation: Rotation) -> Evaluation {
         terms: Default::default(),
         offset: 0.0,
         fingers_touching: 0,
-        validity: Ok(()),
+        validity: Err(Invalid::NotEvaluated),
         closure_margin: None,
     }
 }

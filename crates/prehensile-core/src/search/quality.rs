@@ -127,6 +127,8 @@ pub struct QualityTerms {
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 #[serde(tag = "reason", rename_all = "snake_case")]
 pub enum Invalid {
+    /// The search has not evaluated a pose yet (it is still sampling its start).
+    NotEvaluated,
     /// The hook rotation is outside the wrist range (§6.5.4).
     OutsideWristRange,
     /// The hand could not be backed off free of the object.
@@ -166,6 +168,7 @@ pub enum Invalid {
 impl std::fmt::Display for Invalid {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
+            Invalid::NotEvaluated => write!(f, "the search has not evaluated a pose yet"),
             Invalid::OutsideWristRange => write!(f, "the hand would leave the wrist's range"),
             Invalid::NotFreed { max_offset } => {
                 write!(
