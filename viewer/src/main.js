@@ -4,12 +4,15 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
 import { TransformControls } from 'three/examples/jsm/controls/TransformControls.js';
+import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
 import init, { Session, builtin_hands, builtin_objects } from '../pkg/prehensile_wasm.js';
 
 const $ = (id) => document.getElementById(id);
 // frameTimes: the search's milliseconds in each frame since the last (re)start, to show the
 // per-frame budget is kept.
-const state = { status: 'loading', result: null, frameMs: 0, frameTimes: [], restarts: 0, error: null, session: null };
+// playback: a saved animation (`grasp --glb`, `simulate --glb`) playing instead of the search;
+// run: a simulation report (`simulate --out`) whose state-machine timeline labels it.
+const state = { status: 'loading', result: null, frameMs: 0, frameTimes: [], restarts: 0, error: null, session: null, playback: null, run: null };
 // Where the hand and the object come from: a built-in name (bytes null) or a file the user gave.
 const sources = { hand: { name: 'human', bytes: null }, object: { name: 'mug', bytes: null } };
 window.prehensile = { state };
@@ -83,6 +86,7 @@ function start(movement = $('movement').value) {
   }
   state.session?.free();
   state.session = session;
+  stopPlayback();
   state.result = null;
   state.restarts = 0;
   state.frameTimes = [];
@@ -122,6 +126,7 @@ function moved() {
 // What a drag of the object or of the shoulder ball does, callable from the console and tests.
 window.prehensile.moveObject = (dx, dy, dz) => { objectGroup.position.add(new THREE.Vector3(dx, dy, dz)); moved(); };
 window.prehensile.moveShoulder = (x, y, z) => { shoulderBall.position.set(x, y, z); moved(); };
+window.prehensile.openFiles = openFiles;
 
 function capsuleMesh(c) {
   const a = new THREE.Vector3(...c.a);
@@ -195,6 +200,7 @@ function frame() {
       }
     }
   }
+  if (state.playback) advancePlayback();
   orbit.update();
   renderer.render(scene, camera);
 }
@@ -205,19 +211,136 @@ $('movement').addEventListener('change', () => start());
 $('seed').addEventListener('change', () => start());
 
 // The user's own files, from the file chooser or dropped on the view: meshes replace the
-// object, hand files the hand; what cannot be read is reported on the page.
+// object, hand files the hand; saved results (.json) are shown, saved animations (.glb with an
+// animation) played, simulation reports (.json) label the animation's timeline; what cannot be
+// read is reported on the page.
 const MESHES = ['obj', 'stl', 'ply', 'glb'];
 const HANDS = ['toml', 'urdf', 'xml'];
 async function openFiles(files) {
   let handChanged = false;
+  let searchInputs = false;
   for (const file of files) {
     const ext = file.name.split('.').pop().toLowerCase();
     const bytes = new Uint8Array(await file.arrayBuffer());
-    if (MESHES.includes(ext)) sources.object = { name: file.name, bytes };
-    else if (HANDS.includes(ext)) { sources.hand = { name: file.name, bytes }; handChanged = true; }
-    else { showError(`${file.name}: not a mesh (${MESHES.join(', ')}) or hand file (${HANDS.join(', ')})`); return; }
+    if (ext === 'json') {
+      if (!openSaved(file.name, bytes)) return;
+    } else if (ext === 'glb' && await playIfAnimated(file.name, bytes)) {
+      // played
+    } else if (MESHES.includes(ext)) {
+      sources.object = { name: file.name, bytes };
+      searchInputs = true;
+    } else if (HANDS.includes(ext)) {
+      sources.hand = { name: file.name, bytes };
+      handChanged = true;
+      searchInputs = true;
+    } else {
+      showError(`${file.name}: not a mesh (${MESHES.join(', ')}), hand file (${HANDS.join(', ')}), saved result or run (.json) or animation (.glb)`);
+      return;
+    }
   }
-  start(handChanged ? '' : $('movement').value);
+  if (searchInputs) start(handChanged ? '' : $('movement').value);
+}
+
+// A saved grasp result (`prehensile grasp --out`): shown as it was found, the search stopped; a
+// built-in object is loaded to show it with. A simulation report (`simulate --out`): its state
+// timeline is kept for the animation. Returns false after reporting what is wrong.
+function openSaved(name, bytes) {
+  let doc;
+  try {
+    doc = JSON.parse(new TextDecoder().decode(bytes));
+  } catch (e) {
+    showError(`${name}: not JSON: ${e.message}`);
+    return false;
+  }
+  const schema = String(doc?.schema ?? '');
+  if (schema.startsWith('prehensile.grasp/')) {
+    if (builtin_objects().split(',').includes(doc.object) && builtin_hands().split(',').includes(doc.hand)) {
+      sources.hand = { name: doc.hand, bytes: null };
+      sources.object = { name: doc.object, bytes: null };
+      $('hand').value = doc.hand;
+      $('object').value = doc.object;
+      start(doc.movement);
+    }
+    state.status = 'saved result';
+    state.result = doc;
+    drawResult(doc);
+    showInfo(doc);
+    return true;
+  }
+  if (schema.startsWith('prehensile.run/')) {
+    state.run = doc;
+    showTimeline();
+    return true;
+  }
+  showError(`${name}: schema '${schema}' is neither a grasp result (prehensile.grasp/…) nor a simulation run (prehensile.run/…)`);
+  return false;
+}
+
+// Plays a GLB that carries an animation (what `grasp --glb` and `simulate --glb` write) in place
+// of the live search; false for a GLB without one (a mesh).
+async function playIfAnimated(name, bytes) {
+  let gltf;
+  try {
+    gltf = await new GLTFLoader().parseAsync(bytes.buffer.slice(bytes.byteOffset, bytes.byteOffset + bytes.byteLength), '');
+  } catch (e) {
+    return false; // not readable by three.js: let the core's reader report it as a mesh
+  }
+  if (!gltf.animations.length) return false;
+  stopPlayback();
+  state.status = 'playing';
+  objectGroup.visible = false;
+  drag.detach();
+  const mixer = new THREE.AnimationMixer(gltf.scene);
+  for (const clip of gltf.animations) mixer.clipAction(clip).play();
+  const duration = Math.max(...gltf.animations.map((c) => c.duration));
+  scene.add(gltf.scene);
+  state.playback = { name, root: gltf.scene, mixer, duration, time: 0, last: performance.now() };
+  $('timeline').hidden = false;
+  $('time').max = String(duration);
+  showTimeline();
+  return true;
+}
+
+function stopPlayback() {
+  if (!state.playback) return;
+  scene.remove(state.playback.root);
+  state.playback = null;
+  objectGroup.visible = true;
+  $('timeline').hidden = true;
+}
+
+// Advances the animation by the frame's time (looping) unless the slider holds it.
+function advancePlayback() {
+  const p = state.playback;
+  const now = performance.now();
+  if (!$('pause').checked) p.time = (p.time + (now - p.last) / 1000) % p.duration;
+  else p.time = Number($('time').value);
+  p.last = now;
+  p.mixer.setTime(p.time);
+  $('time').value = String(p.time);
+  $('clock').textContent = `${p.time.toFixed(2)} s of ${p.duration.toFixed(2)} s${currentState(p.time)}`;
+}
+
+// The simulation's state-machine state at time t (the last event at or before it), if a run
+// report was given.
+function currentState(t) {
+  const events = state.run?.cases?.flatMap((c) => (c.timeline ?? []).map((e) => ({ ...e, label: c.label }))) ?? [];
+  if (!events.length) return '';
+  const past = events.filter((e) => e.time <= t + 1e-9);
+  if (!past.length) return ` — ${events[0].label}: hand ${events[0].hand} before ${events[0].state}`;
+  const e = past[past.length - 1];
+  return ` — ${e.label}: hand ${e.hand} ${e.state}`;
+}
+
+// The run report's timeline, in the panel.
+function showTimeline() {
+  if (!state.run) return;
+  const rows = [['simulation', `${state.run.scenario}, hand ${state.run.hand}, held: ${state.run.held ? 'yes' : 'no'}`]];
+  for (const c of state.run.cases ?? []) {
+    rows.push([c.label, `held ${c.held ? 'yes' : 'no'}, slip ${(1000 * c.object_slip_m).toFixed(1)} mm`]);
+    for (const e of c.timeline ?? []) rows.push([`  ${e.time.toFixed(3)} s`, `hand ${e.hand}: ${e.state}`]);
+  }
+  $('info').innerHTML = rows.map(([k, v]) => `<tr><td>${k}</td><td>${v}</td></tr>`).join('');
 }
 $('file').addEventListener('change', () => openFiles([...$('file').files]));
 $('view').addEventListener('dragover', (e) => e.preventDefault());

@@ -4,7 +4,7 @@
 // taken and are not blank, and the console stays free of errors.
 import assert from 'node:assert/strict';
 import fs from 'node:fs';
-import { spawn } from 'node:child_process';
+import { spawn, execFileSync } from 'node:child_process';
 import { chromium } from 'playwright-core';
 
 // The page as a user gets it: served by `prehensile view` from viewer/dist.
@@ -79,6 +79,29 @@ try {
   await page.waitForFunction(() => window.prehensile.state.result?.object === 'cube.obj' && window.prehensile.state.result.valid, null, { timeout: 120_000 });
   console.log('a dropped cube is grasped');
   await page.screenshot({ path: `${out}/viewer-own-file.png` });
+
+  // Saved work from the CLI: a grasp result is shown as found (the search stopped), its
+  // animation played, and a simulation's animation played with its report's state timeline.
+  execFileSync(cli, ['grasp', '--object', 'torus', '--movement', 'power', '--out', `${out}/torus.json`, '--glb', `${out}/torus.glb`], { stdio: 'ignore' });
+  execFileSync(cli, ['simulate', '--scenario', 'grasp', '--object', 'sphere', '--out', `${out}/grasp-run.json`, '--glb', `${out}/grasp-run.glb`], { stdio: 'ignore' });
+  const saved = JSON.parse(fs.readFileSync(`${out}/torus.json`, 'utf8'));
+  await page.setInputFiles('#file', `${out}/torus.json`);
+  await page.waitForFunction(() => window.prehensile.state.status === 'saved result', null, { timeout: 10_000 });
+  const shown = await page.evaluate(() => window.prehensile.state.result);
+  assert.deepStrictEqual(shown.wrist, saved.wrist);
+  assert.strictEqual(await page.evaluate(() => document.getElementById('object').value), 'torus');
+  await page.waitForTimeout(500);
+  assert.strictEqual(await page.evaluate(() => window.prehensile.state.status), 'saved result', 'the search stays stopped');
+  await page.screenshot({ path: `${out}/viewer-saved-result.png` });
+  assert.ok((await colours()) > 50);
+  console.log(`a saved result is shown: ${shown.hand} ${shown.movement} on ${shown.object}, valid ${shown.valid}`);
+  await page.setInputFiles('#file', [`${out}/grasp-run.json`, `${out}/grasp-run.glb`]);
+  await page.waitForFunction(() => window.prehensile.state.status === 'playing' && window.prehensile.state.playback.time > 0.5, null, { timeout: 20_000 });
+  const clock = await page.textContent('#clock');
+  assert.match(clock, /s of [0-9.]+ s — /, 'the clock names the state-machine state');
+  await page.screenshot({ path: `${out}/viewer-playback.png` });
+  assert.ok((await colours()) > 50);
+  console.log(`a simulation plays: ${clock}`);
   assert.deepStrictEqual(errors, [], 'console errors');
 } finally {
   await browser.close();
