@@ -124,6 +124,7 @@ pub fn close_fingers(
                 ws.stopped[k] = true;
                 moving -= 1;
             }
+            moving -= stop_coupled_followers(hand, object, movement, params.contact_tolerance, ws);
         }
     }
     for b in 1..bones.len() {
@@ -134,6 +135,79 @@ pub fn close_fingers(
     outcome.touching_bones = ws.touching.iter().filter(|&&t| t).count() as u32;
     update_world_capsules(hand, ws);
     outcome
+}
+
+/// Beyond the thesis: the file's mechanical joint couplings (MJCF fixed tendons, URDF mimic
+/// joints; [`crate::hand::Coupling::rigid`]) hold at every interpolation. A movement's poses obey them exactly ([`HandModel::constrain`]) and bones
+/// interpolate their angles linearly, so bones at one fraction agree; a bone whose coupling leader
+/// has stopped therefore stops at the leader's fraction. A follower still behind it is brought up
+/// to it, and if that touches the object, leader and follower (a chain) find the contact
+/// together. Returns how many bones it stopped. Allocates nothing.
+fn stop_coupled_followers(
+    hand: &HandModel,
+    object: &ObjectModel,
+    movement: &GraspMovement,
+    tolerance: Option<f64>,
+    ws: &mut Workspace,
+) -> usize {
+    let mut stopped = 0;
+    // Repeat for chains of couplings (a follower that leads another).
+    loop {
+        let mut changed = false;
+        for c in hand.couplings().iter().filter(|c| c.rigid) {
+            let (leader, follower) = (hand.bone_of_dof(c.leader), hand.bone_of_dof(c.follower));
+            if !ws.stopped[leader] || ws.stopped[follower] {
+                continue;
+            }
+            ws.stopped[follower] = true;
+            stopped += 1;
+            changed = true;
+            let (at_leader, at_follower) = (ws.fraction[leader], ws.fraction[follower]);
+            let finger = hand.bones()[follower].finger;
+            let finger_end = follower
+                + hand.bones()[follower..]
+                    .iter()
+                    .take_while(|x| x.finger == finger)
+                    .count();
+            set_group(
+                hand,
+                movement,
+                follower..follower + 1,
+                at_leader,
+                finger_end,
+                ws,
+            );
+            ws.reached[follower] = ws.reached[leader];
+            let is_chain = leader < follower
+                && (leader + 1..=follower).all(|k| hand.chain_predecessor(k) == Some(k - 1));
+            if at_follower >= at_leader
+                || !is_chain
+                || !group_touches(hand, object, follower..finger_end, ws)
+            {
+                continue;
+            }
+            let chain = leader..follower + 1;
+            match tolerance {
+                Some(t) => refine_contact(
+                    hand,
+                    object,
+                    movement,
+                    chain,
+                    finger_end,
+                    [at_follower, at_leader],
+                    t,
+                    ws,
+                ),
+                None => {
+                    set_group(hand, movement, chain, at_follower, finger_end, ws);
+                    ws.touching[follower] = true;
+                }
+            }
+        }
+        if !changed {
+            return stopped;
+        }
+    }
 }
 
 /// Moves bone `b` to fraction `f` of the movement and updates its world transform from its

@@ -353,6 +353,7 @@ pub fn parse_hand_mjcf_with(
         Ok(Transform::from_parts(pos.into(), rotation))
     };
     let mut parts = HandParts {
+        rigid_couplings: true,
         name: root
             .attribute("model")
             .map(str::to_string)

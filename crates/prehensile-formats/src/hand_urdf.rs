@@ -132,6 +132,7 @@ pub fn parse_hand_urdf_with(
         );
     }
     let mut parts = HandParts {
+        rigid_couplings: true,
         name: robot
             .attribute("name")
             .map(str::to_string)

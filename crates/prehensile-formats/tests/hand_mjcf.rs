@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use prehensile_core::math::Point3;
+use prehensile_core::math::{Point3, Vec3};
 use prehensile_core::search::{GraspPlanner, GraspResult, SearchParams};
 use prehensile_core::shapes::builtin_object;
 use prehensile_core::{ObjectModel, Workspace};
@@ -241,4 +241,49 @@ fn default_classes_that_would_inherit_from_themselves_are_refused() {
     );
     let e = parse_hand_mjcf(&with(&twice), "robot.xml").unwrap_err();
     assert!(e.reason.contains("defined twice"), "{e}");
+}
+
+#[test]
+fn closing_keeps_the_shadow_hands_tendon_couplings() {
+    // The Shadow hand's fixed tendons tie each finger's distal joint (J1) to its middle one (J2).
+    // Closing used to let the distal bone go on after the middle one touched, breaking the
+    // coupling the real hand (and MuJoCo) enforces.
+    let hand = load_hand(&shadow("reach.xml")).unwrap();
+    assert!(!hand.couplings().is_empty());
+    let limits = hand.dof_limits();
+    let mut checked = 0;
+    for object in ["sphere", "box", "cylinder", "mug"] {
+        let object = ObjectModel::new(object, builtin_object(object).unwrap(), None).unwrap();
+        for movement in ["power", "precision"] {
+            for seed in [1, 2] {
+                let params = SearchParams {
+                    seed,
+                    ..SearchParams::default()
+                };
+                let m = hand.movement(movement).unwrap();
+                let shoulder = object.center_of_mass() + Vec3::new(-0.35, -0.2, 0.35);
+                let mut planner = GraspPlanner::new(&hand, &object, m, shoulder, params).unwrap();
+                planner.run_to_end();
+                let result = GraspResult::from_planner(&planner, &mut Workspace::new(&hand));
+                let angles: Vec<f64> = result.joints.iter().map(|j| j.angle).collect();
+                for c in hand.couplings() {
+                    let wanted = (c.ratio * angles[c.leader])
+                        .clamp(limits[c.follower][0], limits[c.follower][1]);
+                    assert!(
+                        (angles[c.follower] - wanted).abs() < 1e-6,
+                        "{} on {}, seed {seed}: {} = {:.4} but {} × {} = {:.4}",
+                        movement,
+                        object.name(),
+                        result.joints[c.follower].name,
+                        angles[c.follower],
+                        c.ratio,
+                        result.joints[c.leader].name,
+                        wanted
+                    );
+                    checked += 1;
+                }
+            }
+        }
+    }
+    assert!(checked > 0);
 }

@@ -133,6 +133,9 @@ pub struct HandParts {
     pub bones: Vec<BonePart>,
     /// `(follower, leader, ratio)` by degree-of-freedom name.
     pub couplings: Vec<(String, String, f64)>,
+    /// The couplings are mechanical (MJCF fixed tendons, URDF mimic joints): a follower never
+    /// moves without its leader (see [`Coupling::rigid`]). False for authored synergies.
+    pub rigid_couplings: bool,
     /// End angles of the generic `close` movement by degree-of-freedom name (others stay at the
     /// open pose); empty: every flexion to its upper limit.
     pub close: Vec<(String, f64)>,
@@ -479,6 +482,7 @@ impl HandModel {
                     follower: find(follower)?,
                     leader: find(leader)?,
                     ratio: *ratio,
+                    rigid: parts.rigid_couplings,
                 })
             })
             .collect::<Result<_, _>>()?;
@@ -614,6 +618,7 @@ impl HandModel {
             description: desc.description.clone(),
             bones,
             couplings,
+            rigid_couplings: false,
             close: Vec::new(),
         };
         let mut model = Self::assemble(&parts)?;

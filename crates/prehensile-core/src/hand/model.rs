@@ -168,6 +168,11 @@ pub struct Coupling {
     pub leader: usize,
     /// Ratio.
     pub ratio: f64,
+    /// Mechanical (a tendon, a mimic joint): closing stops the follower when its leader stops,
+    /// and a pose holds the leader where the follower reaches a limit. An authored synergy (the
+    /// human hand's distal ≈ ⅔ middle, §4.1.2.2) is soft: the follower takes `ratio × leader`,
+    /// then its limits, and a blocked middle phalanx does not stop the distal one.
+    pub rigid: bool,
 }
 
 /// An immutable, validated hand. Build it with [`HandModel::from_description`].
@@ -294,9 +299,30 @@ impl HandModel {
         self.capsule_ranges[bone].clone()
     }
 
-    /// Joint angles with limits applied and coupling rules enforced.
+    /// The bone whose joint has degree of freedom `dof`.
+    pub fn bone_of_dof(&self, dof: usize) -> usize {
+        self.bones
+            .iter()
+            .rposition(|b| b.first_dof <= dof && b.joint.dofs() > 0)
+            .unwrap_or(0)
+    }
+
+    /// Joint angles with limits applied and coupling rules enforced. For a [rigid](Coupling::rigid)
+    /// coupling the leader is held where its follower reaches a limit (`follower = ratio ×
+    /// leader` exactly), so a pose interpolated linearly between two constrained poses obeys it
+    /// too.
     pub fn constrain(&self, angles: &mut [f64]) {
+        let limits = |dof: usize| {
+            let bone = &self.bones[self.bone_of_dof(dof)];
+            bone.joint.limits(dof - bone.first_dof)
+        };
         for c in &self.couplings {
+            if c.rigid && c.ratio != 0.0 {
+                let [lo, hi] = limits(c.leader);
+                let [flo, fhi] = limits(c.follower);
+                let (a, b) = (flo / c.ratio, fhi / c.ratio);
+                angles[c.leader] = angles[c.leader].clamp(lo, hi).clamp(a.min(b), a.max(b));
+            }
             angles[c.follower] = c.ratio * angles[c.leader];
         }
         for bone in &self.bones {
