@@ -14,6 +14,22 @@ fn shadow(file: &str) -> PathBuf {
         .join(file)
 }
 
+/// The Shadow hand's `shared.xml` defaults block.
+fn shadow_defaults() -> String {
+    let shared = std::fs::read_to_string(shadow("shared.xml")).unwrap();
+    shared[shared.find("<default>").unwrap()..shared.rfind("</default>").unwrap() + 10].to_string()
+}
+
+/// `robot.xml` with `defaults` in front of it, as `reach.xml` includes them.
+fn robot_with(defaults: &str) -> String {
+    let robot = std::fs::read_to_string(shadow("robot.xml")).unwrap();
+    robot.replacen(
+        "<mujoco>",
+        &format!("<mujoco><compiler angle=\"radian\"/>{defaults}"),
+        1,
+    )
+}
+
 #[test]
 fn the_shadow_hand_imports_from_its_scene_with_joint_names_and_tendons() {
     let hand = load_hand(&shadow("reach.xml")).unwrap();
@@ -116,15 +132,7 @@ fn robot_xml_alone_asks_for_its_defaults() {
 #[test]
 fn bad_mjcf_is_named() {
     // robot.xml with the defaults of shared.xml in front of it, as reach.xml includes them.
-    let shared = std::fs::read_to_string(shadow("shared.xml")).unwrap();
-    let defaults =
-        &shared[shared.find("<default>").unwrap()..shared.rfind("</default>").unwrap() + 10];
-    let robot = std::fs::read_to_string(shadow("robot.xml")).unwrap();
-    let text = robot.replacen(
-        "<mujoco>",
-        &format!("<mujoco><compiler angle=\"radian\"/>{defaults}"),
-        1,
-    );
+    let text = robot_with(&shadow_defaults());
     assert!(parse_hand_mjcf(&text, "robot.xml").is_ok());
     let slide = text.replace(
         "name=\"robot0:FFJ2\" type=\"hinge\"",
@@ -154,13 +162,10 @@ fn bad_mjcf_is_named() {
 
 #[test]
 fn a_ball_joint_becomes_three_named_degrees_of_freedom() {
-    let shared = std::fs::read_to_string(shadow("shared.xml")).unwrap();
-    let defaults =
-        &shared[shared.find("<default>").unwrap()..shared.rfind("</default>").unwrap() + 10];
-    let robot = std::fs::read_to_string(shadow("robot.xml")).unwrap();
-    let text = robot
-        .replacen("<mujoco>", &format!("<mujoco><compiler angle=\"radian\"/>{defaults}"), 1)
-        .replace("name=\"robot0:THJ4\" type=\"hinge\" pos=\"0 0 0\" axis=\"0 0 -1\" range=\"-1.047 1.047\"", "name=\"robot0:THJ4\" type=\"ball\" range=\"0 0.8\"");
+    let text = robot_with(&shadow_defaults()).replace(
+        "name=\"robot0:THJ4\" type=\"hinge\" pos=\"0 0 0\" axis=\"0 0 -1\" range=\"-1.047 1.047\"",
+        "name=\"robot0:THJ4\" type=\"ball\" range=\"0 0.8\"",
+    );
     let hand = parse_hand_mjcf(&text, "ball.xml").unwrap();
     assert!(hand.dof_names().iter().any(|d| d == "robot0:THJ4.y"));
     let base = hand.bone_index("robot0:thbase").unwrap();
@@ -219,19 +224,9 @@ fn the_shadow_hands_derived_movements_keep_side_by_side_fingers_apart() {
 fn default_classes_that_would_inherit_from_themselves_are_refused() {
     // Found by `cargo fuzz run hand_mjcf` (10 min): a nested <default> without a class was
     // "main" again, its own parent, and attribute lookup looped forever.
-    let shared = std::fs::read_to_string(shadow("shared.xml")).unwrap();
-    let defaults =
-        &shared[shared.find("<default>").unwrap()..shared.rfind("</default>").unwrap() + 10];
-    let robot = std::fs::read_to_string(shadow("robot.xml")).unwrap();
-    let with = |defaults: &str| {
-        robot.replacen(
-            "<mujoco>",
-            &format!("<mujoco><compiler angle=\"radian\"/>{defaults}"),
-            1,
-        )
-    };
+    let defaults = shadow_defaults();
     let unnamed = defaults.replacen("<default class=\"robot0:D_Touch\">", "<default>", 1);
-    let e = parse_hand_mjcf(&with(&unnamed), "robot.xml").unwrap_err();
+    let e = parse_hand_mjcf(&robot_with(&unnamed), "robot.xml").unwrap_err();
     assert!(e.reason.contains("needs a class attribute"), "{e}");
     assert!(e.location.is_some(), "{e}");
     let twice = defaults.replacen(
@@ -239,7 +234,7 @@ fn default_classes_that_would_inherit_from_themselves_are_refused() {
         "<default class=\"robot0:asset_class\">",
         1,
     );
-    let e = parse_hand_mjcf(&with(&twice), "robot.xml").unwrap_err();
+    let e = parse_hand_mjcf(&robot_with(&twice), "robot.xml").unwrap_err();
     assert!(e.reason.contains("defined twice"), "{e}");
 }
 
