@@ -348,3 +348,11 @@ $('view').addEventListener('drop', (e) => { e.preventDefault(); openFiles([...e.
 $('capsules').addEventListener('change', () => state.result && drawResult(state.result));
 start();
 frame();
+
+// Files named on `prehensile view`'s command line, opened as if dropped on the page.
+const opened = await fetch('open/list.json').catch(() => null);
+if (opened?.ok) {
+  const names = await opened.json();
+  const files = await Promise.all(names.map(async (name, k) => new File([await (await fetch(`open/${k}`)).arrayBuffer()], name)));
+  if (files.length) await openFiles(files);
+}

@@ -102,6 +102,24 @@ try {
   await page.screenshot({ path: `${out}/viewer-playback.png` });
   assert.ok((await colours()) > 50);
   console.log(`a simulation plays: ${clock}`);
+
+  // `prehensile view FILES…` opens them when the page loads.
+  const withFiles = spawn(cli, ['view', '--dir', dist, '--port', '0', `${out}/torus.json`], { stdio: ['ignore', 'pipe', 'inherit'] });
+  try {
+    const filesUrl = await new Promise((resolve, reject) => {
+      withFiles.stdout.on('data', (d) => { const m = /http:\/\/[0-9.:]+\//.exec(String(d)); if (m) resolve(m[0]); });
+      withFiles.on('exit', (code) => reject(new Error(`prehensile view exited with ${code}`)));
+    });
+    const second = await browser.newPage({ viewport: { width: 1100, height: 700 } });
+    second.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
+    second.on('pageerror', (e) => errors.push(String(e)));
+    await second.goto(filesUrl);
+    await second.waitForFunction(() => window.prehensile?.state?.status === 'saved result', null, { timeout: 60_000 });
+    assert.deepStrictEqual(await second.evaluate(() => window.prehensile.state.result.wrist), saved.wrist);
+    console.log('prehensile view FILE opens the file when the page loads');
+  } finally {
+    withFiles.kill();
+  }
   assert.deepStrictEqual(errors, [], 'console errors');
 } finally {
   await browser.close();

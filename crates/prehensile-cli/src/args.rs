@@ -62,6 +62,9 @@ pub enum Command {
 /// `prehensile view`.
 #[derive(Debug, Args)]
 pub struct ViewArgs {
+    /// Files to open in the page when it loads, as if dropped on it: meshes, hands, saved
+    /// results (.json), animations (.glb) and simulation runs (.json).
+    pub files: Vec<PathBuf>,
     /// The built viewer (`bash tools/viewer/build.sh` writes it).
     #[arg(long, default_value = "viewer/dist")]
     pub dir: PathBuf,

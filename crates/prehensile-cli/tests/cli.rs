@@ -224,8 +224,14 @@ fn demo_writes_results_and_a_gallery() {
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     let table = text(&out.stdout);
     assert!(table.contains("human") && table.contains("mug"), "{table}");
-    assert!(dir.join("index.html").exists());
-    assert!(dir.join("cartoon4-torus.json").exists());
+    let gallery = std::fs::read_to_string(dir.join("index.html")).unwrap();
+    // Each result names the command that opens it in the live viewer.
+    let json = dir.join("cartoon4-torus.json");
+    assert!(
+        gallery.contains(&format!("prehensile view {}", json.display())),
+        "{gallery}"
+    );
+    assert!(json.exists());
     assert!(dir.join("robot3-sphere.svg").exists());
 }
 

@@ -23,8 +23,11 @@ fn the_viewer_folder_is_served_and_nothing_outside_it() {
     std::fs::write(dist.join("index.html"), "<!doctype html>viewer").unwrap();
     std::fs::write(dist.join("main.js"), "console.log(1)").unwrap();
     std::fs::write(root.join("secret.txt"), "not for the browser").unwrap();
+    let result = root.join("saved.json");
+    std::fs::write(&result, r#"{"schema": "prehensile.grasp/2"}"#).unwrap();
     let mut server = Command::new(env!("CARGO_BIN_EXE_prehensile"))
         .args(["view", "--port", "0", "--dir", dist.to_str().unwrap()])
+        .arg(&result)
         .stdout(Stdio::piped())
         .spawn()
         .unwrap();
@@ -42,6 +45,17 @@ fn the_viewer_folder_is_served_and_nothing_outside_it() {
     let checks = std::panic::catch_unwind(|| {
         assert_eq!(get(port, "/"), (200, b"<!doctype html>viewer".to_vec()));
         assert_eq!(get(port, "/main.js?v=2").0, 200);
+        // The files named on the command line, for the page to open, and only those.
+        assert_eq!(
+            get(port, "/open/list.json"),
+            (200, br#"["saved.json"]"#.to_vec())
+        );
+        assert_eq!(
+            get(port, "/open/0"),
+            (200, br#"{"schema": "prehensile.grasp/2"}"#.to_vec())
+        );
+        assert_eq!(get(port, "/open/1").0, 404);
+        assert_eq!(get(port, "/open/../secret.txt").0, 404);
         for outside in [
             "/../secret.txt",
             "/%2e%2e/secret.txt",
@@ -54,6 +68,14 @@ fn the_viewer_folder_is_served_and_nothing_outside_it() {
     server.kill().unwrap();
     server.wait().unwrap();
     checks.unwrap();
+    // A file to open that is not there is an error at once, naming it.
+    let out = Command::new(env!("CARGO_BIN_EXE_prehensile"))
+        .args(["view", "--dir", dist.to_str().unwrap()])
+        .arg(root.join("missing.json"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("missing.json"));
     // Without a built viewer it says how to build one.
     let out = Command::new(env!("CARGO_BIN_EXE_prehensile"))
         .args(["view", "--dir", root.to_str().unwrap()])

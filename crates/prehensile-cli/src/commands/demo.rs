@@ -32,6 +32,10 @@ pub fn run(args: &DemoArgs) -> Result<i32, CliError> {
         "hand", "object", "movement", "quality", "valid", "fingers touching", "time ms"
     )];
     let mut gallery = String::from("<!doctype html><meta charset=utf-8><title>Prehensile demo</title><style>body{font-family:sans-serif;background:#fafafa}figure{display:inline-block;margin:8px;background:#fff;border:1px solid #ddd}figcaption{padding:4px 8px;font-size:13px}</style><h1>Prehensile demo</h1>\n");
+    let _ = writeln!(
+        gallery,
+        "<p>In 3D, live: <code>bash tools/viewer/build.sh &amp;&amp; prehensile view</code> serves the browser viewer on http://127.0.0.1:8000/ (drag the object and the hand re-grasps). Each result below opens in it with the command under its picture.</p>"
+    );
     let mut invalid = 0;
     for hand in &hands {
         for object in &objects {
@@ -73,12 +77,15 @@ pub fn run(args: &DemoArgs) -> Result<i32, CliError> {
             ));
             let _ = writeln!(
                 gallery,
-                "<figure><img src=\"{stem}.svg\" width=520><figcaption>{} on {}: {} grasp, {}, fingers touching: {} (<a href=\"{stem}.glb\">glTF scene</a>)</figcaption></figure>",
+                "<figure><img src=\"{stem}.svg\" width=520><figcaption>{} on {}: {} grasp, {}, fingers touching: {} (<a href=\"{stem}.glb\">glTF scene</a>)<br><code>prehensile view {}</code></figcaption></figure>",
                 hand.name(),
                 object.name(),
                 result.movement,
                 if result.valid { "valid" } else { "not valid" },
-                result.fingers_touching.join(", ")
+                result.fingers_touching.join(", "),
+                [".json", ".glb"]
+                    .map(|e| args.out.join(format!("{stem}{e}")).display().to_string())
+                    .join(" ")
             );
             bar.inc(1);
         }

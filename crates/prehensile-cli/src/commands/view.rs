@@ -1,10 +1,13 @@
-//! `prehensile view`: serves the browser viewer (built by `tools/viewer/build.sh` into
+//! `prehensile view [FILES…]`: serves the browser viewer (built by `tools/viewer/build.sh` into
 //! `viewer/dist`) on a local port. A few lines of `std::net` rather than an HTTP crate: the server
-//! answers GET requests for the viewer's own files on 127.0.0.1 and nothing else.
+//! answers GET requests on 127.0.0.1 for the viewer's own files, and for the files named on the
+//! command line (`/open/list.json` lists their names, `/open/K` is the K-th), which the page
+//! opens when it loads; nothing else.
 
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::{TcpListener, TcpStream};
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use crate::args::ViewArgs;
 use crate::CliError;
@@ -22,6 +25,11 @@ pub fn run(args: &ViewArgs) -> Result<i32, CliError> {
             args.dir.display()
         )));
     }
+    for file in &args.files {
+        // Read once now, so that a missing or unreadable file is an error here, not a 404 later.
+        prehensile_formats::read_input(file, prehensile_formats::MAX_MESH_BYTES)?;
+    }
+    let files = Arc::new(args.files.clone());
     let listener = TcpListener::bind(("127.0.0.1", args.port))
         .map_err(|e| CliError::Usage(format!("cannot listen on 127.0.0.1:{}: {e}", args.port)))?;
     let port = listener
@@ -33,9 +41,9 @@ pub fn run(args: &ViewArgs) -> Result<i32, CliError> {
         args.dir.display()
     );
     for stream in listener.incoming().flatten() {
-        let index = index.clone();
+        let (index, files) = (index.clone(), Arc::clone(&files));
         std::thread::spawn(move || {
-            let _ = answer(stream, &index);
+            let _ = answer(stream, &index, &files);
         });
     }
     Ok(0)
@@ -53,9 +61,9 @@ fn content_type(path: &Path) -> &'static str {
     }
 }
 
-/// Answers one request: a file of the viewer's folder, or 404 (anything outside it, or not a
-/// regular file), or 405 (not GET).
-fn answer(stream: TcpStream, index: &Path) -> std::io::Result<()> {
+/// Answers one request: a file of the viewer's folder or one of the `files` to open, or 404
+/// (anything else, or not a regular file), or 405 (not GET).
+fn answer(stream: TcpStream, index: &Path, files: &[PathBuf]) -> std::io::Result<()> {
     let mut reader = BufReader::new(stream.try_clone()?.take(64 * MAX_LINE));
     let mut request = String::new();
     reader.by_ref().take(MAX_LINE).read_line(&mut request)?;
@@ -75,13 +83,37 @@ fn answer(stream: TcpStream, index: &Path) -> std::io::Result<()> {
         "" => "index.html",
         p => p,
     };
-    let file = prehensile_formats::confined(index, relative)
-        .ok()
-        .and_then(|f| {
-            prehensile_formats::read_input(&f, prehensile_formats::MAX_MESH_BYTES)
-                .ok()
-                .map(|b| (f, b))
-        });
+    let file = match relative.strip_prefix("open/") {
+        Some("list.json") => {
+            let names: Vec<String> = files
+                .iter()
+                .map(|f| {
+                    f.file_name()
+                        .unwrap_or_default()
+                        .to_string_lossy()
+                        .into_owned()
+                })
+                .collect();
+            let json = serde_json::to_vec(&names).unwrap_or_default();
+            Some((PathBuf::from("list.json"), json))
+        }
+        Some(k) => k
+            .parse::<usize>()
+            .ok()
+            .and_then(|k| files.get(k))
+            .and_then(|f| {
+                prehensile_formats::read_input(f, prehensile_formats::MAX_MESH_BYTES)
+                    .ok()
+                    .map(|b| (f.clone(), b))
+            }),
+        None => prehensile_formats::confined(index, relative)
+            .ok()
+            .and_then(|f| {
+                prehensile_formats::read_input(&f, prehensile_formats::MAX_MESH_BYTES)
+                    .ok()
+                    .map(|b| (f, b))
+            }),
+    };
     match file {
         Some((f, bytes)) => {
             write!(
