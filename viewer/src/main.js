@@ -78,8 +78,12 @@ function start(movement = $('movement').value) {
   let session;
   try {
     const none = new Uint8Array();
-    session = Session.open(sources.hand.name, sources.hand.bytes ?? none, sources.object.name,
-      sources.object.bytes ?? none, movement, BigInt($('seed').value || 1));
+    const includes = sources.hand.includes ?? [];
+    const joined = new Uint8Array(includes.reduce((n, f) => n + f.bytes.length, 0));
+    includes.reduce((at, f) => { joined.set(f.bytes, at); return at + f.bytes.length; }, 0);
+    session = Session.open(sources.hand.name, sources.hand.bytes ?? none,
+      includes.map((f) => f.name).join('\n'), joined, new Uint32Array(includes.map((f) => f.bytes.length)),
+      sources.object.name, sources.object.bytes ?? none, movement, BigInt($('seed').value || 1));
   } catch (e) {
     showError(e); // the page keeps what it had: the last session goes on being shown
     return;
@@ -219,6 +223,20 @@ const HANDS = ['toml', 'urdf', 'xml'];
 async function openFiles(files) {
   let handChanged = false;
   let searchInputs = false;
+  // Several MJCF files at once: the hand is the one no other includes, the rest its includes.
+  const xml = [];
+  for (const file of files) {
+    if (file.name.toLowerCase().endsWith('.xml')) xml.push({ name: file.name, bytes: new Uint8Array(await file.arrayBuffer()) });
+  }
+  if (xml.length > 1) {
+    const texts = xml.map((f) => new TextDecoder().decode(f.bytes));
+    const included = (f) => texts.some((t) => t.includes(`file="${f.name}"`) || t.includes(`/${f.name}"`));
+    const main = xml.find((f) => !included(f)) ?? xml[0];
+    sources.hand = { name: main.name, bytes: main.bytes, includes: xml.filter((f) => f !== main) };
+    handChanged = true;
+    searchInputs = true;
+    files = files.filter((f) => !f.name.toLowerCase().endsWith('.xml'));
+  }
   for (const file of files) {
     const ext = file.name.split('.').pop().toLowerCase();
     const bytes = new Uint8Array(await file.arrayBuffer());

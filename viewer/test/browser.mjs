@@ -78,6 +78,13 @@ try {
   await page.setInputFiles('#file', { name: 'cube.obj', mimeType: 'text/plain', buffer: Buffer.from(cube) });
   await page.waitForFunction(() => window.prehensile.state.result?.object === 'cube.obj' && window.prehensile.state.result.valid, null, { timeout: 120_000 });
   console.log('a dropped cube is grasped');
+  // An MJCF hand with its include files, dropped together.
+  const shadowDir = new URL('../../assets/hands/shadow_hand/', import.meta.url).pathname;
+  await page.setInputFiles('#file', ['reach.xml', 'shared.xml', 'shared_asset.xml', 'robot.xml'].map((f) => shadowDir + f));
+  await page.waitForFunction(() => window.prehensile.state.result && window.prehensile.state.result.hand !== 'human', null, { timeout: 120_000 });
+  const shadow = await page.evaluate(() => window.prehensile.state.result);
+  assert.ok(shadow.joints.some((j) => j.name === 'robot0:FFJ2'), 'the Shadow hand with its includes');
+  console.log(`an MJCF hand with its includes is loaded: ${shadow.hand}, ${shadow.joints.length} joints`);
   await page.screenshot({ path: `${out}/viewer-own-file.png` });
 
   // Saved work from the CLI: a grasp result is shown as found (the search stopped), its

@@ -24,12 +24,76 @@ const MAX_INCLUDE_DEPTH: usize = 8;
 /// Reads an MJCF hand, following `<include>` files relative to it.
 pub fn load_hand_mjcf(path: &Path) -> Result<HandModel, FormatError> {
     let name = path.display().to_string();
-    let mut budget = IncludeBudget {
-        bytes: crate::MAX_TEXT_BYTES,
-        files: MAX_INCLUDES,
-    };
-    let text = expand_includes(path, 0, &mut budget)?;
+    let text = expand_includes(path, 0, &mut IncludeBudget::new(), &Includes::Disk)?;
     parse_hand_mjcf_with(&text, &name, Sidecar::beside(path)?.as_ref())
+}
+
+/// Reads an MJCF hand from named files held in memory (files dropped on a web page, which come
+/// without their folders): `main` is the hand's file, and an `<include file="…"/>` names another
+/// of `files` by its file name. The same bounds as on disk apply.
+pub fn parse_hand_mjcf_files(
+    main: &str,
+    files: &[(String, Vec<u8>)],
+) -> Result<HandModel, FormatError> {
+    let text = expand_includes(
+        Path::new(main),
+        0,
+        &mut IncludeBudget::new(),
+        &Includes::Named(files),
+    )?;
+    parse_hand_mjcf(&text, main)
+}
+
+/// Where included files are read from.
+enum Includes<'a> {
+    /// The file system, confined to the including file's folder and below.
+    Disk,
+    /// Files held in memory, found by file name.
+    Named(&'a [(String, Vec<u8>)]),
+}
+
+impl Includes<'_> {
+    /// The text of `path` and a name for it in messages.
+    fn read(&self, path: &Path, limit: u64) -> Result<String, FormatError> {
+        match self {
+            Includes::Disk => crate::read_input_text(path, limit),
+            Includes::Named(files) => {
+                let name = path.file_name().unwrap_or_default().to_string_lossy();
+                let (_, bytes) = files.iter().find(|(n, _)| *n == name).ok_or_else(|| {
+                    FormatError::new(
+                        &name,
+                        format!(
+                            "is included but was not given; open it together with the hand file (given: {})",
+                            files.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>().join(", ")
+                        ),
+                    )
+                })?;
+                if bytes.len() as u64 > limit {
+                    return Err(FormatError::new(
+                        &name,
+                        format!(
+                            "the included files add up to more than {} bytes",
+                            crate::MAX_TEXT_BYTES
+                        ),
+                    ));
+                }
+                String::from_utf8(bytes.clone()).map_err(|e| {
+                    FormatError::new(&name, format!("the file is not UTF-8 text: {e}"))
+                })
+            }
+        }
+    }
+
+    /// The path of the file `file` that `including` includes.
+    fn resolve(&self, including: &Path, file: &str) -> Result<std::path::PathBuf, FormatError> {
+        match self {
+            Includes::Disk => crate::confined(including, file),
+            Includes::Named(_) => Ok(Path::new(file).file_name().map_or_else(
+                || Path::new(file).to_path_buf(),
+                |n| Path::new(n).to_path_buf(),
+            )),
+        }
+    }
 }
 
 /// Most files an MJCF hand may include, all levels together.
@@ -41,6 +105,16 @@ struct IncludeBudget {
     files: usize,
 }
 
+impl IncludeBudget {
+    /// The whole allowance: [`crate::MAX_TEXT_BYTES`] of text, [`MAX_INCLUDES`] files.
+    fn new() -> Self {
+        Self {
+            bytes: crate::MAX_TEXT_BYTES,
+            files: MAX_INCLUDES,
+        }
+    }
+}
+
 /// Text of an MJCF file with every `<include file="..."/>` element (found by parsing the XML, so
 /// includes inside comments stay comments) replaced by the included file's content inside its
 /// `<mujoco>` element. Included files must lie in the including file's folder or below; the
@@ -50,6 +124,7 @@ fn expand_includes(
     path: &Path,
     depth: usize,
     budget: &mut IncludeBudget,
+    source: &Includes,
 ) -> Result<String, FormatError> {
     let name = path.display().to_string();
     if depth > MAX_INCLUDE_DEPTH {
@@ -58,7 +133,7 @@ fn expand_includes(
             "includes nest more than 8 deep; is there an include cycle?",
         ));
     }
-    let text = crate::read_input_text(path, budget.bytes)?;
+    let text = source.read(path, budget.bytes)?;
     let doc = Document::parse(&text)
         .map_err(|e| FormatError::at(&name, format!("line {}", e.pos().row), e.to_string()))?;
     let mut includes: Vec<(std::ops::Range<usize>, String)> = Vec::new();
@@ -82,7 +157,7 @@ fn expand_includes(
             ));
         }
         budget.files -= 1;
-        let included = expand_includes(&crate::confined(path, &file)?, depth + 1, budget)?;
+        let included = expand_includes(&source.resolve(path, &file)?, depth + 1, budget, source)?;
         // Keep what is inside the included file's <mujoco> element.
         let inner = match (included.find("<mujoco"), included.rfind("</mujoco>")) {
             (Some(open), Some(close)) => {

@@ -30,7 +30,7 @@ pub use file_access::{confined, read_input, read_input_text, MAX_MESH_BYTES, MAX
 pub use glb::{glb_container, grasp_glb, simulation_glb};
 pub use hand_gltf::{load_hand_gltf, load_hand_gltf_skinned, SkinnedMesh};
 pub use hand_import::Sidecar;
-pub use hand_mjcf::{load_hand_mjcf, parse_hand_mjcf, parse_hand_mjcf_with};
+pub use hand_mjcf::{load_hand_mjcf, parse_hand_mjcf, parse_hand_mjcf_files, parse_hand_mjcf_with};
 pub use hand_toml::{builtin_hand, load_hand, parse_hand, parse_hand_toml, BUILTIN_HANDS};
 pub use hand_urdf::{load_hand_urdf, parse_hand_urdf, parse_hand_urdf_with};
 pub use mesh_obj::parse_obj;

@@ -282,3 +282,23 @@ fn closing_keeps_the_shadow_hands_tendon_couplings() {
     }
     assert!(checked > 0);
 }
+
+#[test]
+fn an_mjcf_hand_and_its_includes_from_memory_equal_the_files_on_disk() {
+    // Files dropped on a web page come by name only, without their folder.
+    let files: Vec<(String, Vec<u8>)> =
+        ["reach.xml", "shared.xml", "shared_asset.xml", "robot.xml"]
+            .iter()
+            .map(|n| (n.to_string(), std::fs::read(shadow(n)).unwrap()))
+            .collect();
+    let from_memory = prehensile_formats::parse_hand_mjcf_files("reach.xml", &files).unwrap();
+    let from_disk = load_hand(&shadow("reach.xml")).unwrap();
+    assert_eq!(from_memory.dof_names(), from_disk.dof_names());
+    assert_eq!(from_memory.capsules(), from_disk.capsules());
+    // An include not given is named, with what was given.
+    let e = prehensile_formats::parse_hand_mjcf_files("reach.xml", &files[..2]).unwrap_err();
+    assert!(
+        e.to_string().contains("shared_asset.xml") && e.reason.contains("not given"),
+        "{e}"
+    );
+}

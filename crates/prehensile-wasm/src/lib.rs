@@ -75,10 +75,16 @@ impl Session {
 
     /// A session from what the user chose or dropped: a built-in hand by name, or a hand file's
     /// bytes (`hand_bytes` non-empty; `.toml`, `.urdf`, MJCF `.xml` named by `hand`); likewise
-    /// the object (`.obj`, `.stl`, `.ply`, `.glb`). Errors carry the CLI's messages.
+    /// the object (`.obj`, `.stl`, `.ply`, `.glb`). An MJCF hand's `<include>` files, dropped
+    /// with it, come as `include_names` (one per line) and their bytes one after another in
+    /// `include_bytes`, `include_lengths` long each. Errors carry the CLI's messages.
+    #[allow(clippy::too_many_arguments)] // one call from JavaScript, every argument a plain value
     pub fn open(
         hand: &str,
         hand_bytes: &[u8],
+        include_names: &str,
+        include_bytes: &[u8],
+        include_lengths: &[u32],
         object: &str,
         object_bytes: &[u8],
         movement: &str,
@@ -86,8 +92,28 @@ impl Session {
     ) -> Result<Session, JsError> {
         let hand = if hand_bytes.is_empty() {
             hand_named(hand)?
-        } else {
+        } else if include_lengths.is_empty() {
             prehensile_formats::parse_hand(hand_bytes, hand).map_err(js)?
+        } else {
+            let names: Vec<&str> = include_names.lines().collect();
+            if names.len() != include_lengths.len()
+                || include_lengths.iter().map(|&n| n as u64).sum::<u64>()
+                    != include_bytes.len() as u64
+            {
+                return Err(js(
+                    "the include files' names, lengths and bytes do not agree",
+                ));
+            }
+            let mut files = vec![(hand.to_string(), hand_bytes.to_vec())];
+            let mut at = 0;
+            for (name, &len) in names.iter().zip(include_lengths) {
+                files.push((
+                    name.to_string(),
+                    include_bytes[at..at + len as usize].to_vec(),
+                ));
+                at += len as usize;
+            }
+            prehensile_formats::parse_hand_mjcf_files(hand, &files).map_err(js)?
         };
         let object = if object_bytes.is_empty() {
             object_named(object)?
