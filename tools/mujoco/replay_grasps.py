@@ -219,7 +219,10 @@ def main():
                     held5 += n >= 5
                     gravity += outcomes[5]["held"]
                     rows.append((obj, movement, seed, f"held in {n} of 6 "
-                                 f"({' '.join(o['direction'] for o in outcomes if o['held'])})"))
+                                 f"({' '.join(o['direction'] for o in outcomes if o['held'])}); "
+                                 f"epsilon {result['stability']['epsilon']:.3f}, "
+                                 f"{len(result['contacts'])} contacts, "
+                                 f"fingers {','.join(result['fingers_touching'])}"))
     for r in rows:
         print(f"{r[0].split('/')[-1]:<24} {r[1]:<10} seed {r[2]}: {r[3]}")
     print(f"{total} valid Shadow grasps replayed in MuJoCo {mujoco.__version__}: "
