@@ -64,9 +64,6 @@ pub enum MeshError {
         /// Number of triangles given.
         count: usize,
     },
-    /// The mesh fails a topology or geometry check; the report says which.
-    #[error("{0}")]
-    Defective(Box<MeshReport>),
 }
 
 /// The result of checking a welded mesh. A mesh is usable as a graspable object only when

@@ -140,10 +140,21 @@ impl ObjectModel {
         if !(MIN_OBJECT_SIZE..=MAX_OBJECT_SIZE).contains(&size) {
             return Err(ObjectError::AbsurdSize { size });
         }
+        // A mesh with defects takes the winding-number inside; a clean one too if it covers some
+        // space twice (overlapping parts, a face pushed through another), which only the
+        // hierarchy's crossings can tell.
+        let defective = !report.defects.is_empty();
+        let mut dropped = 0;
+        if defective {
+            let (kept, n) = mesh.without_degenerate_triangles();
+            if kept.triangles.is_empty() {
+                return Err(MeshError::Empty.into());
+            }
+            (mesh, dropped) = (kept, n);
+        }
         let exact = TriangleBvh::new(&mesh);
-        let balanced = report.unbalanced_edges == 0;
-        let overlapping = balanced && overlaps_itself(&exact, OVERLAP_SCAN_CELLS);
-        let (collider, volume, center_of_mass) = if report.defects.is_empty() && !overlapping {
+        let overlapping = !defective && overlaps_itself(&exact, OVERLAP_SCAN_CELLS);
+        let (collider, volume, center_of_mass) = if !defective && !overlapping {
             // The distance grid reaches 3 cm past the mesh: far enough to cover a hand closing on
             // it.
             let (volume, center_of_mass) = mesh.volume_and_centroid();
@@ -153,26 +164,18 @@ impl ObjectModel {
                 center_of_mass,
             )
         } else {
-            let why = if report.defects.is_empty() {
-                "it overlaps itself: parts overlap or a face passes through another".to_string()
-            } else {
+            let why = if defective {
                 report
                     .defects
                     .iter()
                     .map(|d| first_clause(d))
                     .collect::<Vec<_>>()
                     .join(", ")
-            };
-            let (kept, dropped) = mesh.without_degenerate_triangles();
-            let exact = if dropped > 0 {
-                mesh = kept;
-                if mesh.triangles.is_empty() {
-                    return Err(MeshError::Empty.into());
-                }
-                TriangleBvh::new(&mesh)
             } else {
-                exact
+                "it overlaps itself: parts overlap or a face passes through another".to_string()
             };
+            // Zero-area triangles, dropped above, change no crossing count.
+            let balanced = report.unbalanced_edges == 0;
             let collider = MeshCollider::from_exact(exact.into_winding_numbers(), 0.03);
             let cells = if balanced {
                 VOLUME_CELLS
@@ -191,7 +194,7 @@ impl ObjectModel {
                 ));
             }
             repairs.push(format!(
-                "the mesh is not one clean closed surface ({why}): its inside is where the generalized winding number exceeds ½, volume {volume:.4e} m³ from that inside; collision uses the exact path only"
+                "the mesh is not one clean closed surface ({why}): its inside is where the generalized winding number exceeds ½ in magnitude, volume {volume:.4e} m³ from that inside; collision uses the exact path only"
             ));
             (collider, volume, center_of_mass)
         };

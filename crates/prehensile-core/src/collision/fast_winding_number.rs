@@ -4,7 +4,7 @@
 //! The winding number of a point is the signed solid angle the triangles subtend there, divided
 //! by 4π: 1 inside a closed, outward-wound surface, 0 outside, 2 where two closed parts overlap,
 //! and a smooth value between 0 and 1 across the holes of an open surface. "Inside" is
-//! `w > ½`, which gives every mesh — open, non-manifold, inconsistently wound, self-intersecting
+//! `|w| > ½` (see [`super::TriangleBvh::inside`]), which gives every mesh — open, non-manifold, inconsistently wound, self-intersecting
 //! or made of overlapping parts — a well-defined solid.
 //!
 //! Far from a node of the triangle hierarchy, the node's triangles are replaced by the first two

@@ -18,7 +18,6 @@ pub use signed_distance_grid::{Decision, SignedDistanceGrid};
 pub use triangle_bvh::{SurfacePoint, TriangleBvh};
 
 use crate::math::Point3;
-use crate::mesh::TriangleMesh;
 
 /// A capsule in world coordinates: the segment `a–b` swept by a sphere of `radius`.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -50,12 +49,6 @@ pub struct MeshCollider {
 }
 
 impl MeshCollider {
-    /// Builds both paths for a closed, manifold, consistently wound mesh. The distance grid
-    /// extends `margin` metres beyond the mesh's bounds.
-    pub fn new(mesh: &TriangleMesh, margin: f64) -> Self {
-        Self::from_exact(TriangleBvh::new(mesh), margin)
-    }
-
     /// The colliders around an exact path: with the distance grid (`margin` metres beyond the
     /// mesh) when its signs come from pseudo-normals, alone when from winding numbers.
     pub fn from_exact(exact: TriangleBvh, margin: f64) -> Self {

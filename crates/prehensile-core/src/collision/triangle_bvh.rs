@@ -3,7 +3,7 @@
 //! Signs come from angle-weighted pseudo-normals (Bærentzen & Aanæs 2005), which are exact for a
 //! closed, manifold, consistently wound mesh. Any other mesh (open, non-manifold, inconsistently
 //! wound, overlapping parts) is built [`TriangleBvh::with_winding_numbers`]: its inside is where
-//! the generalized winding number exceeds ½, and signs and normals follow it.
+//! the generalized winding number exceeds ½ in magnitude, and signs and normals follow it.
 //! Written by hand rather than with parry3d's BVH so that the leaf tests are our checked kernels
 //! and the traversal uses a fixed stack: queries take `&self` and never allocate.
 
@@ -141,7 +141,8 @@ impl TriangleBvh {
     }
 
     /// Builds the hierarchy for any mesh: the inside is where the generalized winding number
-    /// exceeds ½ (and within the mesh's bounding box), signs and outward normals follow it.
+    /// exceeds ½ in magnitude (within the mesh's bounding box); signs and outward normals follow
+    /// it.
     pub fn with_winding_numbers(mesh: &TriangleMesh) -> Self {
         Self::new(mesh).into_winding_numbers()
     }
