@@ -83,6 +83,11 @@ fn answer(stream: TcpStream, index: &Path, files: &[PathBuf]) -> std::io::Result
         "" => "index.html",
         p => p,
     };
+    let read = |f: &Path| {
+        prehensile_formats::read_input(f, prehensile_formats::MAX_MESH_BYTES)
+            .ok()
+            .map(|b| (f.to_path_buf(), b))
+    };
     let file = match relative.strip_prefix("open/") {
         Some("list.json") => {
             let names: Vec<String> = files
@@ -101,18 +106,10 @@ fn answer(stream: TcpStream, index: &Path, files: &[PathBuf]) -> std::io::Result
             .parse::<usize>()
             .ok()
             .and_then(|k| files.get(k))
-            .and_then(|f| {
-                prehensile_formats::read_input(f, prehensile_formats::MAX_MESH_BYTES)
-                    .ok()
-                    .map(|b| (f.clone(), b))
-            }),
+            .and_then(|f| read(f)),
         None => prehensile_formats::confined(index, relative)
             .ok()
-            .and_then(|f| {
-                prehensile_formats::read_input(&f, prehensile_formats::MAX_MESH_BYTES)
-                    .ok()
-                    .map(|b| (f, b))
-            }),
+            .and_then(|f| read(&f)),
     };
     match file {
         Some((f, bytes)) => {
