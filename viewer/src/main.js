@@ -130,7 +130,6 @@ function moved() {
 // What a drag of the object or of the shoulder ball does, callable from the console and tests.
 window.prehensile.moveObject = (dx, dy, dz) => { objectGroup.position.add(new THREE.Vector3(dx, dy, dz)); moved(); };
 window.prehensile.moveShoulder = (x, y, z) => { shoulderBall.position.set(x, y, z); moved(); };
-window.prehensile.openFiles = openFiles;
 
 function capsuleMesh(c) {
   const a = new THREE.Vector3(...c.a);

@@ -301,4 +301,34 @@ fn an_mjcf_hand_and_its_includes_from_memory_equal_the_files_on_disk() {
         e.to_string().contains("shared_asset.xml") && e.reason.contains("not given"),
         "{e}"
     );
+    // What an attacker would drop: a cycle, a path out of the folder, a fan-out.
+    let file = |name: &str, text: String| (name.to_string(), text.into_bytes());
+    let cycle = [
+        file(
+            "a.xml",
+            r#"<mujoco><include file="b.xml"/></mujoco>"#.into(),
+        ),
+        file(
+            "b.xml",
+            r#"<mujoco><include file="a.xml"/></mujoco>"#.into(),
+        ),
+    ];
+    let e = prehensile_formats::parse_hand_mjcf_files("a.xml", &cycle).unwrap_err();
+    assert!(e.reason.contains("cycle"), "{e}");
+    let escape = [file(
+        "a.xml",
+        r#"<mujoco><include file="../../etc/passwd"/></mujoco>"#.into(),
+    )];
+    let e = prehensile_formats::parse_hand_mjcf_files("a.xml", &escape).unwrap_err();
+    assert!(
+        e.to_string().contains("passwd") && e.reason.contains("not given"),
+        "{e}"
+    );
+    let fan = format!(
+        "<mujoco>{}</mujoco>",
+        r#"<include file="b.xml"/>"#.repeat(300)
+    );
+    let fan_out = [file("a.xml", fan), file("b.xml", "<mujoco/>".into())];
+    let e = prehensile_formats::parse_hand_mjcf_files("a.xml", &fan_out).unwrap_err();
+    assert!(e.reason.contains("included files in all"), "{e}");
 }
