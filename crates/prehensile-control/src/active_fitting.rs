@@ -13,8 +13,9 @@ use prehensile_core::math::{Rotation, Vec3};
 use prehensile_core::HandModel;
 
 use crate::controller::{passive_torque, Gains, Setpoints};
-use crate::inverse_dynamics::{inverse_dynamics_moving_base, BaseMotion, DynamicsError};
-use crate::mass_matrix::outboard_inertia;
+use crate::dynamics_model::DynamicsModel;
+use crate::inverse_dynamics::{bias_torques, rnea, BaseMotion, DynamicsError};
+use crate::outboard_inertia::outboard_inertia_into;
 
 /// Fits `positions` and `velocities` of `setpoints` (its neutral pose and limits are used as
 /// given) to frames `q` sampled every `dt` seconds, with the blend weights of each frame and the
@@ -42,13 +43,15 @@ pub fn fit_active(
     let frames = q.len() - 2;
     let mut a = DMatrix::zeros(frames, 12);
     let mut b = DMatrix::zeros(frames, n);
+    let model = DynamicsModel::new(hand);
+    let mut data = model.data();
+    let mut passive = vec![0.0; n];
     for t in 1..q.len() - 1 {
         let (qd, qdd) = rates(hand, [&q[t - 1], &q[t], &q[t + 1]], dt);
-        let tau = inverse_dynamics_moving_base(hand, &q[t], &qd, &qdd, base)?;
-        let zero = vec![0.0; n];
-        let compensation = inverse_dynamics_moving_base(hand, &q[t], &zero, &zero, base)?;
-        let inertia = outboard_inertia(hand, &q[t])?;
-        let passive = passive_torque(&inertia, &q[t], &qd, setpoints, gains);
+        let tau = rnea(&model, &mut data, &q[t], &qd, &qdd, base)?.to_vec();
+        let compensation = bias_torques(&model, &mut data, &q[t], base)?.to_vec();
+        let inertia = outboard_inertia_into(&model, &mut data, &q[t])?;
+        passive_torque(inertia, &q[t], &qd, setpoints, gains, &mut passive);
         for j in 0..6 {
             a[(t - 1, j)] = gains.k_s * blends[t][j];
             a[(t - 1, 6 + j)] = gains.k_d * blends[t][j];

@@ -7,11 +7,11 @@
 //! for a ball joint the whole 3×3 block, as in the paper (the bracketed terms, per unit
 //! inertia, are computed per degree of freedom and then multiplied by `I`).
 
-use nalgebra::DVector;
-use prehensile_core::HandModel;
+use prehensile_core::math::Vec3;
 
-use crate::inverse_dynamics::{inverse_dynamics_moving_base, BaseMotion, DynamicsError};
-use crate::mass_matrix::{outboard_inertia, OutboardInertia};
+use crate::dynamics_model::{DynamicsData, DynamicsModel};
+use crate::inverse_dynamics::{bias_torques, BaseMotion, DynamicsError};
+use crate::outboard_inertia::{outboard_inertia_into, OutboardInertia};
 
 /// Gains and distances (Pollard & Zordan, Table 1).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -147,32 +147,43 @@ pub struct Setpoints {
     pub limits: Vec<[f64; 2]>,
 }
 
+/// The passive law's bracketed term of degree of freedom `k`, per unit inertia.
+fn passive_unit(k: usize, q: &[f64], qd: &[f64], s: &Setpoints, g: &Gains) -> f64 {
+    let [lo, hi] = s.limits[k];
+    let outside = if q[k] < lo {
+        lo - q[k]
+    } else if q[k] > hi {
+        hi - q[k]
+    } else {
+        0.0
+    };
+    g.k_s * (s.neutral[k] - q[k]) + g.k_jl * outside - g.k_d * qd[k]
+}
+
+/// The active law's bracketed term of degree of freedom `k`, per unit inertia.
+fn active_unit(k: usize, q: &[f64], qd: &[f64], s: &Setpoints, blend: &[f64; 6], g: &Gains) -> f64 {
+    let target: f64 = (0..6).map(|j| blend[j] * s.positions[j][k]).sum();
+    let rate: f64 = (0..6).map(|j| blend[j] * s.velocities[j][k]).sum();
+    g.k_s * (target - q[k]) + g.k_d * (rate - qd[k])
+}
+
 /// Passive torque, Eq. 3: τP = I (k_S (θ_N − θ) + k_JL (θ_L − θ) − k_D θ̇), the limit term only
-/// outside the range.
+/// outside the range, written into `out`.
 pub fn passive_torque(
     inertia: &OutboardInertia,
     q: &[f64],
     qd: &[f64],
     s: &Setpoints,
     g: &Gains,
-) -> Vec<f64> {
-    let unit: Vec<f64> = (0..q.len())
-        .map(|k| {
-            let [lo, hi] = s.limits[k];
-            let outside = if q[k] < lo {
-                lo - q[k]
-            } else if q[k] > hi {
-                hi - q[k]
-            } else {
-                0.0
-            };
-            g.k_s * (s.neutral[k] - q[k]) + g.k_jl * outside - g.k_d * qd[k]
-        })
-        .collect();
-    inertia.times(&unit)
+    out: &mut [f64],
+) {
+    for (k, out) in out.iter_mut().enumerate() {
+        *out = passive_unit(k, q, qd, s, g);
+    }
+    inertia.apply(out);
 }
 
-/// Active torque, Eq. 5–7: τA = I (k_S (B·P_S − θ) + k_D (B·P_D − θ̇)).
+/// Active torque, Eq. 5–7: τA = I (k_S (B·P_S − θ) + k_D (B·P_D − θ̇)), written into `out`.
 pub fn active_torque(
     inertia: &OutboardInertia,
     q: &[f64],
@@ -180,15 +191,12 @@ pub fn active_torque(
     s: &Setpoints,
     blend: &[f64; 6],
     g: &Gains,
-) -> Vec<f64> {
-    let unit: Vec<f64> = (0..q.len())
-        .map(|k| {
-            let target: f64 = (0..6).map(|j| blend[j] * s.positions[j][k]).sum();
-            let rate: f64 = (0..6).map(|j| blend[j] * s.velocities[j][k]).sum();
-            g.k_s * (target - q[k]) + g.k_d * (rate - qd[k])
-        })
-        .collect();
-    inertia.times(&unit)
+    out: &mut [f64],
+) {
+    for (k, out) in out.iter_mut().enumerate() {
+        *out = active_unit(k, q, qd, s, blend, g);
+    }
+    inertia.apply(out);
 }
 
 /// One degree of freedom's control law in implicit form: τ = stiffness·(target − θ) +
@@ -224,39 +232,38 @@ pub fn joint_springs(
     blend: &[f64; 6],
     g: &Gains,
     active: bool,
-) -> Vec<JointSpring> {
-    (0..q.len())
-        .map(|k| {
-            let [lo, hi] = s.limits[k];
-            let limit = if q[k] < lo {
-                Some(lo)
-            } else if q[k] > hi {
-                Some(hi)
-            } else {
-                None
-            };
-            let mut stiffness = g.k_s;
-            let mut pull = g.k_s * s.neutral[k];
-            let mut damping = g.k_d;
-            let mut rate = 0.0;
-            if let Some(l) = limit {
-                stiffness += g.k_jl;
-                pull += g.k_jl * l;
-            }
-            if active {
-                stiffness += g.k_s;
-                pull += g.k_s * (0..6).map(|j| blend[j] * s.positions[j][k]).sum::<f64>();
-                damping += g.k_d;
-                rate += g.k_d * (0..6).map(|j| blend[j] * s.velocities[j][k]).sum::<f64>();
-            }
-            JointSpring {
-                stiffness: inertia.diagonal[k] * stiffness,
-                damping: inertia.diagonal[k] * damping,
-                target: pull / stiffness,
-                target_velocity: if damping > 0.0 { rate / damping } else { 0.0 },
-            }
-        })
-        .collect()
+    out: &mut [JointSpring],
+) {
+    for (k, out) in out.iter_mut().enumerate() {
+        let [lo, hi] = s.limits[k];
+        let limit = if q[k] < lo {
+            Some(lo)
+        } else if q[k] > hi {
+            Some(hi)
+        } else {
+            None
+        };
+        let mut stiffness = g.k_s;
+        let mut pull = g.k_s * s.neutral[k];
+        let mut damping = g.k_d;
+        let mut rate = 0.0;
+        if let Some(l) = limit {
+            stiffness += g.k_jl;
+            pull += g.k_jl * l;
+        }
+        if active {
+            stiffness += g.k_s;
+            pull += g.k_s * (0..6).map(|j| blend[j] * s.positions[j][k]).sum::<f64>();
+            damping += g.k_d;
+            rate += g.k_d * (0..6).map(|j| blend[j] * s.velocities[j][k]).sum::<f64>();
+        }
+        *out = JointSpring {
+            stiffness: inertia.diagonal[k] * stiffness,
+            damping: inertia.diagonal[k] * damping,
+            target: pull / stiffness,
+            target_velocity: if damping > 0.0 { rate / damping } else { 0.0 },
+        };
+    }
 }
 
 /// The torques the springs of [`joint_springs`] leave out at `q`, `qd`: the cross terms of every
@@ -267,23 +274,23 @@ pub fn ball_joint_coupling(
     springs: &[JointSpring],
     q: &[f64],
     qd: &[f64],
-) -> Vec<f64> {
-    if inertia.balls.is_empty() {
-        return vec![0.0; springs.len()];
-    }
-    let unit: Vec<f64> = springs
-        .iter()
-        .zip(&inertia.diagonal)
-        .enumerate()
-        .map(|(k, (s, i))| {
-            if *i > 0.0 {
-                s.torque(q[k], qd[k]) / i
+    out: &mut [f64],
+) {
+    out.fill(0.0);
+    for (first, block) in &inertia.balls {
+        let unit = Vec3::from_fn(|k, _| {
+            let (d, i) = (first + k, inertia.diagonal[first + k]);
+            if i > 0.0 {
+                springs[d].torque(q[d], qd[d]) / i
             } else {
                 0.0
             }
-        })
-        .collect();
-    inertia.coupling(&unit)
+        });
+        let whole = block * unit;
+        for k in 0..3 {
+            out[first + k] = whole[k] - inertia.diagonal[first + k] * unit[k];
+        }
+    }
 }
 
 /// The controller: state, setpoints, gains and grip strength.
@@ -334,35 +341,49 @@ impl GraspController {
         }
     }
 
-    /// Advances the state machine and returns the joint torques τP + τA + τG + τARM for the hand
-    /// at `q`, `qd`, its base moving as `base` (gravity included there), the object `distance`
-    /// away. `compensate` turns the inverse-dynamics terms τG + τARM on.
+    /// Advances the state machine and writes into `out` the joint torques τP + τA + τG + τARM
+    /// for the hand at `q`, `qd`, its base moving as `base` (gravity included there), the object
+    /// `distance` away. `compensate` turns the inverse-dynamics terms τG + τARM on. Allocates
+    /// nothing: `model` and `data` are the hand's dynamics and their buffers.
     #[allow(clippy::too_many_arguments)]
     pub fn torques(
         &mut self,
-        hand: &HandModel,
+        model: &DynamicsModel,
+        data: &mut DynamicsData,
         q: &[f64],
         qd: &[f64],
         base: &BaseMotion,
         distance: f64,
         release: bool,
         compensate: bool,
-    ) -> Result<DVector<f64>, DynamicsError> {
+        out: &mut [f64],
+    ) -> Result<(), DynamicsError> {
         if !distance.is_finite() || !self.alpha.is_finite() {
             return Err(DynamicsError::NonFinite("distance or grip strength"));
         }
+        model.check(&[("qd", qd)])?;
+        if out.len() != model.dof_count() {
+            return Err(DynamicsError::Length {
+                what: "torques",
+                got: out.len(),
+                expected: model.dof_count(),
+            });
+        }
         let blend = self.advance(distance, release);
-        let inertia = outboard_inertia(hand, q)?;
-        let passive = passive_torque(&inertia, q, qd, &self.setpoints, &self.gains);
-        let mut tau = DVector::from_column_slice(&passive);
-        if self.active {
-            let active = active_torque(&inertia, q, qd, &self.setpoints, &blend, &self.gains);
-            tau += DVector::from_column_slice(&active);
+        let inertia = outboard_inertia_into(model, data, q)?;
+        for (k, out) in out.iter_mut().enumerate() {
+            *out = passive_unit(k, q, qd, &self.setpoints, &self.gains);
+            if self.active {
+                *out += active_unit(k, q, qd, &self.setpoints, &blend, &self.gains);
+            }
         }
+        inertia.apply(out);
         if compensate {
-            let zero = vec![0.0; q.len()];
-            tau += inverse_dynamics_moving_base(hand, q, &zero, &zero, base)?;
+            let bias = bias_torques(model, data, q, base)?;
+            for (out, b) in out.iter_mut().zip(bias) {
+                *out += b;
+            }
         }
-        Ok(tau)
+        Ok(())
     }
 }

@@ -11,12 +11,15 @@
 #![warn(missing_docs)]
 
 mod active_fitting;
+mod body_inertia;
 mod controller;
 mod controller_fitting;
+mod dynamics_model;
 mod example_motion;
 mod forward_dynamics;
 mod inverse_dynamics;
 mod mass_matrix;
+mod outboard_inertia;
 mod passive_fitting;
 
 pub use active_fitting::fit_active;
@@ -27,10 +30,13 @@ pub use controller::{
 pub use controller_fitting::{
     fit_controller, ControllerFile, GainsRecord, SetpointRecord, CONTROLLER_SCHEMA, SETPOINT_NAMES,
 };
+pub use dynamics_model::{DynamicsData, DynamicsModel};
 pub use example_motion::{Motion, MOTION_SCHEMA};
 pub use forward_dynamics::forward_dynamics;
 pub use inverse_dynamics::{
-    gravity_torques, inverse_dynamics, inverse_dynamics_moving_base, BaseMotion, DynamicsError,
+    bias_torques, gravity_torques, inverse_dynamics, inverse_dynamics_moving_base, rnea,
+    BaseMotion, DynamicsError,
 };
-pub use mass_matrix::{mass_matrix, outboard_inertia, OutboardInertia};
+pub use mass_matrix::{crba, mass_matrix};
+pub use outboard_inertia::{outboard_inertia, outboard_inertia_into, OutboardInertia};
 pub use passive_fitting::fit_passive;

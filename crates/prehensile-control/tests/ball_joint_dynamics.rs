@@ -8,7 +8,10 @@
 mod common;
 
 use nalgebra::DVector;
-use prehensile_control::{gravity_torques, inverse_dynamics, mass_matrix, outboard_inertia};
+use prehensile_control::{
+    ball_joint_coupling, gravity_torques, inverse_dynamics, mass_matrix, outboard_inertia,
+    JointSpring,
+};
 use prehensile_core::hand::Joint;
 use prehensile_core::math::{Rotation, Transform, Vec3};
 use prehensile_core::HandModel;
@@ -133,8 +136,23 @@ fn kinetic_energy_and_gravity_match_the_poses() {
         assert!(cross > 1e-3 * base.trace(), "no cross terms in {base}");
         // I·u multiplies each ball block whole and I⁻¹ undoes it; the coupling is the rest.
         let u: Vec<f64> = (0..q.len()).map(|k| (k as f64 * 0.7).sin()).collect();
-        let times = inertia.times(&u);
-        let coupling = inertia.coupling(&u);
+        let mut times = u.clone();
+        inertia.apply(&mut times);
+        // Springs whose torque per unit inertia is u: their cross terms are the coupling.
+        let springs: Vec<JointSpring> = (0..q.len())
+            .map(|k| JointSpring {
+                stiffness: inertia.diagonal[k],
+                damping: 0.0,
+                target: q[k] + u[k],
+                target_velocity: 0.0,
+            })
+            .collect();
+        let mut coupling = vec![f64::NAN; q.len()];
+        ball_joint_coupling(&inertia, &springs, &q, &vec![0.0; q.len()], &mut coupling);
+        for k in (0..q.len()).filter(|&k| !inertia.in_ball(k)) {
+            assert!(close(times[k], inertia.diagonal[k] * u[k]));
+            assert_eq!(coupling[k], 0.0);
+        }
         for (first, block) in &inertia.balls {
             let expected = block * Vec3::from_column_slice(&u[*first..first + 3]);
             for a in 0..3 {

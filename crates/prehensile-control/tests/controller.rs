@@ -2,9 +2,10 @@
 
 mod common;
 
+use nalgebra::DVector;
 use prehensile_control::{
-    active_torque, gravity_torques, outboard_inertia, passive_torque, BaseMotion, Gains,
-    GraspController, GraspState, OutboardInertia, Setpoints,
+    active_torque, gravity_torques, joint_springs, outboard_inertia, passive_torque, BaseMotion,
+    DynamicsModel, Gains, GraspController, GraspState, JointSpring, OutboardInertia, Setpoints,
 };
 use prehensile_core::math::Vec3;
 
@@ -86,6 +87,27 @@ fn the_state_machine_runs_a_whole_grasp_and_release() {
     );
 }
 
+/// [`passive_torque`] into a new vector.
+fn passive_law(i: &OutboardInertia, q: &[f64], qd: &[f64], s: &Setpoints, g: &Gains) -> Vec<f64> {
+    let mut out = vec![f64::NAN; q.len()];
+    passive_torque(i, q, qd, s, g, &mut out);
+    out
+}
+
+/// [`active_torque`] into a new vector.
+fn active_law(
+    i: &OutboardInertia,
+    q: &[f64],
+    qd: &[f64],
+    s: &Setpoints,
+    blend: &[f64; 6],
+    g: &Gains,
+) -> Vec<f64> {
+    let mut out = vec![f64::NAN; q.len()];
+    active_torque(i, q, qd, s, blend, g, &mut out);
+    out
+}
+
 #[test]
 fn passive_torque_pulls_to_neutral_and_limits_act_only_outside() {
     let g = Gains::grasp();
@@ -96,12 +118,12 @@ fn passive_torque_pulls_to_neutral_and_limits_act_only_outside() {
     };
     // At neutral and at rest: no torque.
     assert_eq!(
-        passive_torque(&inertia, &[0.2; 3], &[0.0; 3], &s, &g),
+        passive_law(&inertia, &[0.2; 3], &[0.0; 3], &s, &g),
         vec![0.0; 3]
     );
     // Inside the limits only the neutral spring and damping act; Eq. 4: τ/I is the same
     // acceleration change at every joint.
-    let tau = passive_torque(&inertia, &[0.5; 3], &[1.0; 3], &s, &g);
+    let tau = passive_law(&inertia, &[0.5; 3], &[1.0; 3], &s, &g);
     let accel: Vec<f64> = tau
         .iter()
         .zip(&inertia.diagonal)
@@ -114,13 +136,13 @@ fn passive_torque_pulls_to_neutral_and_limits_act_only_outside() {
         "{accel:?}"
     );
     // Beyond the upper limit the limit spring adds k_JL (θ_L − θ).
-    let over = passive_torque(&inertia, &[1.1; 3], &[0.0; 3], &s, &g);
+    let over = passive_law(&inertia, &[1.1; 3], &[0.0; 3], &s, &g);
     assert!(
         (over[0] / inertia.diagonal[0] - (200.0 * (0.2 - 1.1) + 5000.0 * (1.0 - 1.1))).abs() < 1e-9
     );
     // Active torque toward the blended setpoint.
     let blend = GraspState::Closing.blend(0.025, 0.0, &g);
-    let active = active_torque(&inertia, &[0.0; 3], &[0.0; 3], &s, &blend, &g);
+    let active = active_law(&inertia, &[0.0; 3], &[0.0; 3], &s, &blend, &g);
     assert!((active[1] / inertia.diagonal[1] - 200.0 * 0.15).abs() < 1e-9);
 }
 
@@ -136,48 +158,29 @@ fn the_controller_adds_compensation_by_inverse_dynamics() {
     s.limits = vec![[-3.0, 3.0]; n];
     s.positions = std::array::from_fn(|_| q.clone());
     let mut controller = GraspController::new(Gains::grasp(), s);
+    let model = DynamicsModel::new(&hand);
+    let mut data = model.data();
+    let mut torques = |controller: &mut GraspController, distance: f64, compensate: bool| {
+        let mut tau = vec![f64::NAN; n];
+        let at_rest = BaseMotion::at_rest(gravity);
+        controller
+            .torques(
+                &model, &mut data, &q, &zero, &at_rest, distance, false, compensate, &mut tau,
+            )
+            .map(|()| DVector::from_vec(tau))
+    };
     // At the setpoints and at rest, all that is left is the compensation: gravity torques.
-    let tau = controller
-        .torques(
-            &hand,
-            &q,
-            &zero,
-            &BaseMotion::at_rest(gravity),
-            1.0,
-            false,
-            true,
-        )
-        .unwrap();
+    let tau = torques(&mut controller, 1.0, true).unwrap();
     let expected = gravity_torques(&hand, &q, gravity).unwrap();
     assert!((tau - expected).amax() < 1e-15);
-    let off = controller
-        .torques(
-            &hand,
-            &q,
-            &zero,
-            &BaseMotion::at_rest(gravity),
-            1.0,
-            false,
-            false,
-        )
-        .unwrap();
+    let off = torques(&mut controller, 1.0, false).unwrap();
     assert!(off.amax() < 1e-15);
     assert!(outboard_inertia(&hand, &q)
         .unwrap()
         .diagonal
         .iter()
         .all(|i| *i > 0.0));
-    assert!(controller
-        .torques(
-            &hand,
-            &q,
-            &zero,
-            &BaseMotion::at_rest(gravity),
-            f64::NAN,
-            false,
-            true
-        )
-        .is_err());
+    assert!(torques(&mut controller, f64::NAN, true).is_err());
 }
 
 #[test]
@@ -285,9 +288,15 @@ fn joint_springs_are_the_passive_plus_active_torque() {
         (GraspState::Gripping.blend(0.0, 0.4, &g), true),
         (GraspState::Neutral.blend(1.0, 0.0, &g), false),
     ] {
-        let springs = prehensile_control::joint_springs(&inertia, &q, &s, &blend, &g, active);
-        let passive = passive_torque(&inertia, &q, &qd, &s, &g);
-        let active_tau = active_torque(&inertia, &q, &qd, &s, &blend, &g);
+        let mut springs = [JointSpring {
+            stiffness: f64::NAN,
+            damping: f64::NAN,
+            target: f64::NAN,
+            target_velocity: f64::NAN,
+        }; 4];
+        joint_springs(&inertia, &q, &s, &blend, &g, active, &mut springs);
+        let passive = passive_law(&inertia, &q, &qd, &s, &g);
+        let active_tau = active_law(&inertia, &q, &qd, &s, &blend, &g);
         for k in 0..n {
             let expected = passive[k] + if active { active_tau[k] } else { 0.0 };
             let got = springs[k].torque(q[k], qd[k]);

@@ -247,12 +247,9 @@ impl ArticulatedHand {
         &self.collider_bones
     }
 
-    /// Every bone body's pose in the world, in bone order.
-    fn bone_frames(&self, world: &PhysicsWorld) -> Vec<Transform> {
-        self.bones
-            .iter()
-            .map(|h| convert::transform(world.bodies[*h].position()))
-            .collect()
+    /// Bone `k`'s body pose in the world.
+    fn bone_frame(&self, world: &PhysicsWorld, k: usize) -> Transform {
+        convert::transform(world.bodies[self.bones[k]].position())
     }
 
     /// The bone whose origin is farthest from where its joint holds it on its parent, and that
@@ -260,32 +257,29 @@ impl ArticulatedHand {
     /// a solver that has lost the hand shows it here even when rapier's velocity caps keep
     /// every number finite.
     pub fn widest_joint_gap(&self, world: &PhysicsWorld) -> Option<(usize, f64)> {
-        let frames = self.bone_frames(world);
         self.hand
             .bones()
             .iter()
             .enumerate()
             .filter_map(|(k, bone)| {
-                let held_at = frames[bone.parent?] * Point3::from(bone.rest.translation.vector);
-                Some((
-                    k,
-                    (Point3::from(frames[k].translation.vector) - held_at).norm(),
-                ))
+                let held_at = self.bone_frame(world, bone.parent?)
+                    * Point3::from(bone.rest.translation.vector);
+                let at = Point3::from(self.bone_frame(world, k).translation.vector);
+                Some((k, (at - held_at).norm()))
             })
             .max_by(|a, b| a.1.total_cmp(&b.1))
     }
 
     /// Joint angles and rates of every degree of freedom, read from the bodies.
     pub fn state(&self, world: &PhysicsWorld, q: &mut [f64], qd: &mut [f64]) {
-        let frames = self.bone_frames(world);
         for (k, bone) in self.hand.bones().iter().enumerate() {
             let Some(parent) = bone.parent else { continue };
             let n = bone.joint.dofs();
             if n == 0 {
                 continue;
             }
-            let relative =
-                (frames[parent].rotation * bone.rest.rotation).inverse() * frames[k].rotation;
+            let rotation = |k| self.bone_frame(world, k).rotation;
+            let relative = (rotation(parent) * bone.rest.rotation).inverse() * rotation(k);
             bone.joint
                 .angles(&relative, &mut q[bone.first_dof..bone.first_dof + n]);
         }

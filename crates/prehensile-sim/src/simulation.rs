@@ -4,7 +4,8 @@
 //! and compensation (τG + τARM, as body wrenches), steps the world, and checks that nothing diverged.
 
 use prehensile_control::{
-    ball_joint_coupling, joint_springs, outboard_inertia, GraspController, GraspState,
+    ball_joint_coupling, joint_springs, outboard_inertia_into, DynamicsData, DynamicsModel,
+    GraspController, GraspState, JointSpring,
 };
 use prehensile_core::animation::Keyframe;
 use prehensile_core::math::{Point3, Rotation, Transform, Vec3};
@@ -209,6 +210,12 @@ struct SimHand {
     qd: Vec<f64>,
     palm_local: Transform,
     frames: Vec<Keyframe>,
+    /// The hand's dynamics, built once, and their buffers.
+    dynamics: DynamicsModel,
+    dynamics_data: DynamicsData,
+    /// This step's joint springs and ball-joint cross torques.
+    springs: Vec<JointSpring>,
+    coupling: Vec<f64>,
 }
 
 /// A running simulation.
@@ -304,7 +311,18 @@ impl Simulation {
             self.settings.friction,
         );
         let palm_local = hand.bones()[0].rest;
+        let dynamics = DynamicsModel::new(hand);
+        let spring = JointSpring {
+            stiffness: 0.0,
+            damping: 0.0,
+            target: 0.0,
+            target_velocity: 0.0,
+        };
         self.hands.push(SimHand {
+            dynamics_data: dynamics.data(),
+            dynamics,
+            springs: vec![spring; n],
+            coupling: vec![0.0; n],
             q: setup.start.clone(),
             qd: vec![0.0; n],
             setup,
@@ -406,6 +424,17 @@ impl Simulation {
         &self.hands[i].setup.hand
     }
 
+    /// The deepest penetration of hand `i` into anything outside it this step, metres.
+    fn penetration(&self, i: usize) -> f64 {
+        let body = &self.hands[i].body;
+        body.colliders()
+            .iter()
+            .flat_map(|&collider| self.world.narrow_phase.contact_pairs_with(collider))
+            .flat_map(|pair| pair.manifolds())
+            .flat_map(|manifold| &manifold.points)
+            .fold(0.0, |deepest: f64, point| deepest.max(-point.dist))
+    }
+
     /// Contacts of hand `i` with everything outside it, this step.
     pub fn contacts(&self, i: usize) -> Contacts {
         let body = &self.hands[i].body;
@@ -457,6 +486,16 @@ impl Simulation {
 
     /// Advances one step.
     pub fn step(&mut self) -> Result<(), SimError> {
+        self.drive_hands()?;
+        self.world.step();
+        self.time += self.settings.dt;
+        self.steps += 1;
+        self.check_step()
+    }
+
+    /// Before the world steps: records at the recording rate, reads every hand's joint state,
+    /// advances its state machine and sets its joint springs and holding wrenches.
+    fn drive_hands(&mut self) -> Result<(), SimError> {
         let dt = self.settings.dt;
         let next = self.time + dt;
         if self.time >= self.next_record - 1e-12 {
@@ -484,11 +523,19 @@ impl Simulation {
                 });
             }
             let c = &h.setup.controller;
-            let hand = &h.setup.hand;
             let time = self.time;
-            let inertia = outboard_inertia(hand, &h.q).map_err(|e| diverged(time, i, e))?;
-            let springs = joint_springs(&inertia, &h.q, &c.setpoints, &blend, &c.gains, c.active);
-            let coupling = ball_joint_coupling(&inertia, &springs, &h.q, &h.qd);
+            let inertia = outboard_inertia_into(&h.dynamics, &mut h.dynamics_data, &h.q)
+                .map_err(|e| diverged(time, i, e))?;
+            joint_springs(
+                inertia,
+                &h.q,
+                &c.setpoints,
+                &blend,
+                &c.gains,
+                c.active,
+                &mut h.springs,
+            );
+            ball_joint_coupling(inertia, &h.springs, &h.q, &h.qd, &mut h.coupling);
             let palm = if h.setup.compensate_arm {
                 h.setup.arm.frame_motion(self.time, &h.palm_local)
             } else {
@@ -503,18 +550,19 @@ impl Simulation {
                 Vec3::zeros()
             };
             let h = &self.hands[i];
-            h.body.drive(&mut self.world, &springs, &h.q, &coupling);
+            h.body.drive(&mut self.world, &h.springs, &h.q, &h.coupling);
             if h.setup.compensate_gravity || h.setup.compensate_arm {
                 h.body.hold(&mut self.world, &palm, &gravity);
             }
             h.body.move_root(&mut self.world, &h.setup.arm.at(next));
         }
-        self.world.step();
-        self.time = next;
-        self.steps += 1;
+        Ok(())
+    }
+
+    /// After the world stepped: the deepest penetration so far, and whether anything diverged.
+    fn check_step(&mut self) -> Result<(), SimError> {
         for i in 0..self.hands.len() {
-            let c = self.contacts(i);
-            self.max_penetration = self.max_penetration.max(c.penetration);
+            self.max_penetration = self.max_penetration.max(self.penetration(i));
         }
         self.check_diverged()
     }
@@ -606,5 +654,79 @@ fn diverged(time: f64, hand: usize, e: impl std::fmt::Display) -> SimError {
     SimError::Diverged {
         time,
         what: format!("hand {hand}: {e}"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    //! Our part of a step allocates nothing once running, beyond rapier's change tracking
+    //! (rapier's own `PhysicsWorld::step` allocates about ten times a step inside its pipeline;
+    //! that is not ours to change).
+
+    use std::alloc::{GlobalAlloc, Layout, System};
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    use prehensile_core::{shapes, ObjectModel};
+
+    use crate::scenarios::held_still;
+    use crate::Settings;
+
+    struct Counting;
+
+    static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+    unsafe impl GlobalAlloc for Counting {
+        unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+            unsafe { System.alloc(layout) }
+        }
+        unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+            unsafe { System.dealloc(ptr, layout) }
+        }
+    }
+
+    #[global_allocator]
+    static GLOBAL: Counting = Counting;
+
+    #[test]
+    fn our_part_of_a_step_allocates_nothing() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../assets/hands/shadow_hand/reach.xml"
+        );
+        let hand = prehensile_formats::load_hand(std::path::Path::new(path)).unwrap();
+        let sphere = shapes::builtin_object("sphere").unwrap();
+        let sphere = ObjectModel::new("sphere", sphere, None).unwrap();
+        let settings = Settings {
+            // Recording stores keyframes, which is output, not step work.
+            record_fps: 1e-3,
+            ..Settings::for_step(0.001)
+        };
+        let mut sim = held_still(&hand, &sphere, settings).unwrap();
+        sim.step().unwrap();
+        let mut ours = 0;
+        for _ in 0..100 {
+            let before = ALLOCATIONS.load(Ordering::SeqCst);
+            sim.drive_hands().unwrap();
+            let driven = ALLOCATIONS.load(Ordering::SeqCst);
+            sim.world.step();
+            sim.time += sim.settings.dt;
+            let stepped = ALLOCATIONS.load(Ordering::SeqCst);
+            sim.check_step().unwrap();
+            ours += driven - before + ALLOCATIONS.load(Ordering::SeqCst) - stepped;
+        }
+        assert!(
+            sim.contacts(0).touching > 0,
+            "the hand let go of the sphere"
+        );
+        // What is left is rapier's change tracking: setting 22 joint motors and clearing the
+        // bodies' forces pushes their handles onto lists rapier empties every step (3–4
+        // allocations a step, measured). Before the dynamics had a model and data, the step
+        // built new vectors of its own every time (links, composite inertias, the outboard
+        // inertia, springs, coupling torques, bone frames, contact forces).
+        assert!(
+            ours <= 4 * 100,
+            "100 steps allocated {ours} times outside rapier's step"
+        );
     }
 }

@@ -220,7 +220,8 @@ fn at_rest_under_gravity_the_springs_act_through_the_whole_inertia_block() {
     let unit: Vec<f64> = (0..q.len())
         .map(|k| Gains::default().k_s * (neutral[k] - q[k]))
         .collect();
-    let spring = inertia.times(&unit);
+    let mut spring = unit.clone();
+    inertia.apply(&mut spring);
     let scale = hold.amax();
     let mut cross_terms: f64 = 0.0;
     for k in ball_dofs(&hand) {

@@ -1,6 +1,8 @@
 //! Helpers shared by the integration tests.
 
-use prehensile_control::{forward_dynamics, BaseMotion, GraspController, GraspState};
+use prehensile_control::{
+    forward_dynamics, BaseMotion, DynamicsModel, GraspController, GraspState,
+};
 use prehensile_core::HandModel;
 
 /// A recorded motion: its step, every step's angles and blend, and the last angles.
@@ -25,15 +27,20 @@ pub fn opening_motion(
     let (dt, steps) = (5e-4, 500);
     let (mut q, mut qd) = (start.to_vec(), vec![0.0; start.len()]);
     let (mut frames, mut blends) = (Vec::new(), Vec::new());
+    let model = DynamicsModel::new(hand);
+    let mut data = model.data();
+    let mut tau = vec![0.0; start.len()];
     for s in 0..steps {
         let distance = 0.3 - 0.25 * s as f64 / steps as f64;
-        let tau = controller
-            .torques(hand, &q, &qd, base, distance, false, true)
+        controller
+            .torques(
+                &model, &mut data, &q, &qd, base, distance, false, true, &mut tau,
+            )
             .unwrap();
         assert_eq!(controller.state, GraspState::Opening);
         frames.push(q.clone());
         blends.push(GraspState::Opening.blend(distance, 0.0, &controller.gains));
-        let qdd = forward_dynamics(hand, &q, &qd, tau.as_slice(), base).unwrap();
+        let qdd = forward_dynamics(&model, &mut data, &q, &qd, &tau, base).unwrap();
         for k in 0..qd.len() {
             qd[k] += dt * qdd[k];
         }

@@ -1,0 +1,68 @@
+//! The dynamics and the controller allocate nothing once their model and data are built: a
+//! counting global allocator around inverse dynamics, the mass matrix and the controller's
+//! torques. (The simulation step's own check is a unit test in `prehensile-sim`.)
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use prehensile_control::{crba, rnea, BaseMotion, DynamicsModel, Gains, GraspController};
+use prehensile_core::math::Vec3;
+
+struct Counting;
+
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+fn allocations(f: impl FnOnce()) -> usize {
+    let before = ALLOCATIONS.load(Ordering::SeqCst);
+    f();
+    ALLOCATIONS.load(Ordering::SeqCst) - before
+}
+
+#[test]
+fn the_dynamics_and_the_controller_allocate_nothing() {
+    let hand = prehensile_formats::builtin_hand("human").unwrap();
+    let model = DynamicsModel::new(&hand);
+    let mut data = model.data();
+    let n = hand.dof_count();
+    let (q, qd, qdd) = (vec![0.2; n], vec![0.5; n], vec![1.0; n]);
+    let base = BaseMotion::at_rest(Vec3::new(0.0, 0.0, -9.81));
+    let setpoints = prehensile_control::Setpoints {
+        positions: std::array::from_fn(|j| vec![0.1 * j as f64; n]),
+        velocities: std::array::from_fn(|_| vec![0.0; n]),
+        neutral: vec![0.0; n],
+        limits: vec![[-1.0, 1.0]; n],
+    };
+    let mut controller = GraspController::new(Gains::grasp(), setpoints);
+    let mut tau = vec![0.0; n];
+    // Warm up, then count.
+    let mut run = || {
+        rnea(&model, &mut data, &q, &qd, &qdd, &base).unwrap();
+        crba(&model, &mut data, &q).unwrap();
+        controller
+            .torques(
+                &model, &mut data, &q, &qd, &base, 0.02, false, true, &mut tau,
+            )
+            .unwrap();
+    };
+    run();
+    let counted = allocations(|| {
+        for _ in 0..10 {
+            run()
+        }
+    });
+    assert_eq!(counted, 0, "the dynamics allocated {counted} times");
+    assert!(tau.iter().any(|t| *t != 0.0));
+}
