@@ -38,6 +38,47 @@ pub fn finger_name(bone: &str) -> Option<&'static str> {
         .map(|(_, name)| *name)
 }
 
+/// Names the finger each chain from the root starts: the first finger name found among the
+/// chain's bones (see [`finger_name`]), following each bone's first child.
+pub fn name_fingers(parts: &mut HandParts) {
+    let Some(root) = parts.bones.iter().find(|b| b.parent.is_none()) else {
+        return;
+    };
+    let root = root.name.clone();
+    let child_of = |parts: &HandParts, name: &str| -> Option<String> {
+        parts
+            .bones
+            .iter()
+            .find(|b| b.parent.as_deref() == Some(name))
+            .map(|b| b.name.clone())
+    };
+    for i in 0..parts.bones.len() {
+        if parts.bones[i].parent.as_deref() != Some(root.as_str()) {
+            continue;
+        }
+        let mut at = Some(parts.bones[i].name.clone());
+        let mut finger = None;
+        // A chain visits each bone at most once: names are unique and parents form a tree.
+        for _ in 0..parts.bones.len() {
+            let Some(name) = at else { break };
+            finger = finger_name(&name);
+            if finger.is_some() {
+                break;
+            }
+            at = child_of(parts, &name);
+        }
+        parts.bones[i].finger = finger.map(str::to_string);
+    }
+}
+
+/// The end of `capsules` farthest from the bone's origin: a fingertip where the file gives none.
+pub fn farthest_capsule_end(capsules: &[(Point3, Point3, f64)]) -> Option<Point3> {
+    capsules
+        .iter()
+        .flat_map(|c| [c.0, c.1])
+        .max_by(|a, b| a.coords.norm().total_cmp(&b.coords.norm()))
+}
+
 /// Overrides for what importing derives, read from a TOML sidecar `<stem>.prehensile.toml`
 /// beside the hand file (see docs/HAND_FORMAT.md).
 #[derive(Debug, Clone, Default, PartialEq, serde::Deserialize)]

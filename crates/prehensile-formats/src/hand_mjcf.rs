@@ -8,13 +8,13 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use prehensile_core::hand::{Axis, HandParts, Inertial, Joint};
+use prehensile_core::hand::{Axis, BonePart, HandParts, Inertial, Joint};
 use prehensile_core::math::{Point3, Rotation, Transform, Vec3};
 use prehensile_core::HandModel;
 use roxmltree::{Document, Node};
 
 use crate::hand_import::{
-    bone, box_capsules, build_in_hand_frame, file_stem, finger_name, Sidecar,
+    bone, box_capsules, build_in_hand_frame, farthest_capsule_end, file_stem, name_fingers, Sidecar,
 };
 use crate::FormatError;
 
@@ -291,294 +291,341 @@ pub fn parse_hand_mjcf_with(
 ) -> Result<HandModel, FormatError> {
     let doc = Document::parse(text)
         .map_err(|e| FormatError::at(source, format!("line {}", e.pos().row), e.to_string()))?;
-    let at = |node: Node| {
-        format!(
-            "<{}> at line {}",
-            node.tag_name().name(),
-            doc.text_pos_at(node.range().start).row
-        )
-    };
     let root = doc.root_element();
-    let degrees = root
-        .descendants()
-        .find(|n| n.has_tag_name("compiler"))
-        .and_then(|c| c.attribute("angle"))
-        .is_none_or(|a| a != "radian");
-    let angle = |v: f64| if degrees { v.to_radians() } else { v };
-    let mut classes = HashMap::new();
-    for d in root.children().filter(|n| n.has_tag_name("default")) {
-        Defaults::collect(d, None, &mut classes, source)?;
-    }
-    let defaults = Defaults { classes };
-    for node in root
-        .descendants()
-        .filter(|n| n.is_element() && !n.has_tag_name("default"))
-    {
-        for name in ["class", "childclass"] {
-            if let Some(c) = node.attribute(name) {
-                if !defaults.classes.contains_key(c) {
-                    return Err(FormatError::at(
-                        source,
-                        at(node),
-                        format!("default class '{c}' is not defined; load the model file that includes its defaults (for the Shadow hand: reach.xml, which includes shared.xml)"),
-                    ));
-                }
-            }
-        }
-    }
-    // The body tree with the most joints is the hand.
-    let tops: Vec<Node> = root
-        .descendants()
-        .filter(|n| n.has_tag_name("body") && n.parent().is_some_and(|p| !p.has_tag_name("body")))
-        .collect();
-    let joints_in = |n: Node| n.descendants().filter(|d| d.has_tag_name("joint")).count();
-    let Some(mut palm) = tops.into_iter().max_by_key(|n| joints_in(*n)) else {
-        return Err(FormatError::new(
-            source,
-            "no <body> found; is this an MJCF model?",
-        ));
-    };
-
-    let mut dropped = Vec::new();
-    // What became of the collision geoms that are not one capsule.
-    let mut boxes = Vec::new();
-    let mut skipped = Vec::new();
-    while let [only] = bodies(palm).as_slice() {
-        dropped.push(palm.attribute("name").unwrap_or("?").to_string());
-        palm = *only;
-    }
-    let numbers = |node: Node, value: &str, what: &str| -> Result<Vec<f64>, FormatError> {
-        value
-            .split_whitespace()
-            .map(|w| w.parse::<f64>().ok().filter(|v| v.is_finite()))
-            .collect::<Option<Vec<f64>>>()
-            .ok_or_else(|| {
-                FormatError::at(
-                    source,
-                    at(node),
-                    format!("{what} '{value}' is not a list of finite numbers"),
-                )
-            })
-    };
-    let class_of = |node: Node| -> String {
-        if let Some(c) = node.attribute("class") {
-            return c.to_string();
-        }
-        node.ancestors()
-            .find_map(|a| a.attribute("childclass"))
-            .unwrap_or("main")
-            .to_string()
-    };
-    let frame_of = |node: Node| -> Result<Transform, FormatError> {
-        let class = class_of(node);
-        let get = |name: &str| defaults.get(node, &class, name);
-        let pos = match get("pos") {
-            Some(p) => match numbers(node, &p, "pos")?.as_slice() {
-                [x, y, z] => Vec3::new(*x, *y, *z),
-                _ => return Err(FormatError::at(source, at(node), "pos needs three numbers")),
-            },
-            None => Vec3::zeros(),
-        };
-        let rotation = if let Some(q) = get("quat") {
-            match numbers(node, &q, "quat")?.as_slice() {
-                [w, x, y, z] => {
-                    Rotation::from_quaternion(nalgebra::Quaternion::new(*w, *x, *y, *z))
-                }
-                _ => return Err(FormatError::at(source, at(node), "quat needs four numbers")),
-            }
-        } else if let Some(e) = get("euler") {
-            match numbers(node, &e, "euler")?.as_slice() {
-                // MuJoCo's default eulerseq "xyz": rotations about the moving x, then y, then z.
-                [a, b, c] => {
-                    Rotation::from_axis_angle(&Vec3::x_axis(), angle(*a))
-                        * Rotation::from_axis_angle(&Vec3::y_axis(), angle(*b))
-                        * Rotation::from_axis_angle(&Vec3::z_axis(), angle(*c))
-                }
-                _ => {
-                    return Err(FormatError::at(
-                        source,
-                        at(node),
-                        "euler needs three numbers",
-                    ))
-                }
-            }
-        } else if let Some(aa) = get("axisangle") {
-            match numbers(node, &aa, "axisangle")?.as_slice() {
-                [x, y, z, a] => Rotation::from_axis_angle(
-                    &nalgebra::Unit::new_normalize(Vec3::new(*x, *y, *z)),
-                    angle(*a),
-                ),
-                _ => {
-                    return Err(FormatError::at(
-                        source,
-                        at(node),
-                        "axisangle needs four numbers",
-                    ))
-                }
-            }
-        } else if get("xyaxes").is_some() || get("zaxis").is_some() {
-            return Err(FormatError::at(
-                source,
-                at(node),
-                "xyaxes and zaxis orientations are not supported yet; use quat or euler",
-            ));
-        } else {
-            Rotation::identity()
-        };
-        Ok(Transform::from_parts(pos.into(), rotation))
-    };
+    let mut reader = MjcfReader::new(&doc, source)?;
+    reader.check_classes(root)?;
+    let palm = reader.palm(root)?;
     let mut parts = HandParts {
         rigid_couplings: true,
         name: root
             .attribute("model")
             .map(str::to_string)
             .unwrap_or_else(|| file_stem(source)),
-        description: if dropped.is_empty() {
-            format!("imported from {source}")
-        } else {
-            format!(
-                "imported from {source}; bodies above the palm dropped: {}",
-                dropped.join(", ")
-            )
-        },
         ..Default::default()
     };
+    // Depth first with an explicit stack (a crafted file may nest bodies deeply), parents
+    // before children, children in file order.
     let mut stack = vec![(palm, None::<String>)];
     while let Some((body, parent)) = stack.pop() {
+        let part = reader.one_body(body, parent.as_deref())?;
+        // MuJoCo requires unique body names; the bone tree is linked by name.
+        if parts.bones.iter().any(|b| b.name == part.name) {
+            return Err(reader.error(
+                body,
+                format!(
+                    "two bodies are named '{}'; body names must be unique",
+                    part.name
+                ),
+            ));
+        }
+        for c in bodies(body).iter().rev() {
+            stack.push((*c, Some(part.name.clone())));
+        }
+        parts.bones.push(part);
+    }
+    name_fingers(&mut parts);
+    for tendon in root.descendants().filter(|n| n.has_tag_name("fixed")) {
+        reader.one_fixed_tendon(tendon, &mut parts);
+    }
+    parts.description = reader.description();
+    build_in_hand_frame(parts, source, sidecar)
+}
+
+/// Reads the elements of one MJCF document, one method per element (as MuJoCo's own
+/// `mjXReader::OneBody`, `OneGeom`...), and notes what it leaves out for the description.
+struct MjcfReader<'d, 'i> {
+    doc: &'d Document<'i>,
+    source: &'d str,
+    defaults: Defaults,
+    /// Angles in degrees (MuJoCo's default) rather than radians.
+    degrees: bool,
+    /// Bodies above the palm and the palm's own joints.
+    dropped: Vec<String>,
+    /// Box geoms and how many capsules stand in for each.
+    boxes: Vec<String>,
+    /// Colliding geoms that are not read, with their type.
+    skipped: Vec<String>,
+}
+
+/// One `<joint>` of a body.
+enum JointElement {
+    /// A hinge: its name and axis with limits.
+    Hinge(String, Axis),
+    /// A ball joint: its name and cone angle, radians.
+    Ball(String, f64),
+}
+
+impl<'d, 'i> MjcfReader<'d, 'i> {
+    /// The compiler's angle unit and every default class of `doc`.
+    fn new(doc: &'d Document<'i>, source: &'d str) -> Result<Self, FormatError> {
+        let root = doc.root_element();
+        let degrees = root
+            .descendants()
+            .find(|n| n.has_tag_name("compiler"))
+            .and_then(|c| c.attribute("angle"))
+            .is_none_or(|a| a != "radian");
+        let mut classes = HashMap::new();
+        for d in root.children().filter(|n| n.has_tag_name("default")) {
+            Defaults::collect(d, None, &mut classes, source)?;
+        }
+        Ok(Self {
+            doc,
+            source,
+            defaults: Defaults { classes },
+            degrees,
+            dropped: Vec::new(),
+            boxes: Vec::new(),
+            skipped: Vec::new(),
+        })
+    }
+
+    /// Where `node` is, for messages.
+    fn at(&self, node: Node) -> String {
+        format!(
+            "<{}> at line {}",
+            node.tag_name().name(),
+            self.doc.text_pos_at(node.range().start).row
+        )
+    }
+
+    /// An error at `node`.
+    fn error(&self, node: Node, message: impl Into<String>) -> FormatError {
+        FormatError::at(self.source, self.at(node), message)
+    }
+
+    /// An angle read from the file, in radians.
+    fn angle(&self, v: f64) -> f64 {
+        if self.degrees {
+            v.to_radians()
+        } else {
+            v
+        }
+    }
+
+    /// The finite numbers of attribute value `value` of `node`.
+    fn numbers(&self, node: Node, value: &str, what: &str) -> Result<Vec<f64>, FormatError> {
+        value
+            .split_whitespace()
+            .map(|w| w.parse::<f64>().ok().filter(|v| v.is_finite()))
+            .collect::<Option<Vec<f64>>>()
+            .ok_or_else(|| {
+                self.error(
+                    node,
+                    format!("{what} '{value}' is not a list of finite numbers"),
+                )
+            })
+    }
+
+    /// Attribute `name` of `node`, from the element or its class's defaults.
+    fn get(&self, node: Node, name: &str) -> Option<String> {
+        let class = match node.attribute("class") {
+            Some(c) => c,
+            None => node
+                .ancestors()
+                .find_map(|a| a.attribute("childclass"))
+                .unwrap_or("main"),
+        };
+        self.defaults.get(node, class, name)
+    }
+
+    /// Whether a `limited` joint attribute leaves the range in force.
+    fn limited(&self, node: Node) -> bool {
+        self.get(node, "limited").is_none_or(|l| l != "false")
+    }
+
+    /// Refuses a `class` or `childclass` that names no default class.
+    fn check_classes(&self, root: Node) -> Result<(), FormatError> {
+        for node in root
+            .descendants()
+            .filter(|n| n.is_element() && !n.has_tag_name("default"))
+        {
+            for name in ["class", "childclass"] {
+                if let Some(c) = node.attribute(name) {
+                    if !self.defaults.classes.contains_key(c) {
+                        return Err(self.error(
+                            node,
+                            format!("default class '{c}' is not defined; load the model file that includes its defaults (for the Shadow hand: reach.xml, which includes shared.xml)"),
+                        ));
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The palm: in the top-level body tree with the most joints, the first body where the tree
+    /// branches. The bodies above it are dropped.
+    fn palm<'a>(&mut self, root: Node<'a, 'i>) -> Result<Node<'a, 'i>, FormatError> {
+        let joints_in = |n: Node| n.descendants().filter(|d| d.has_tag_name("joint")).count();
+        let Some(mut palm) = root
+            .descendants()
+            .filter(|n| {
+                n.has_tag_name("body") && n.parent().is_some_and(|p| !p.has_tag_name("body"))
+            })
+            .max_by_key(|n| joints_in(*n))
+        else {
+            return Err(FormatError::new(
+                self.source,
+                "no <body> found; is this an MJCF model?",
+            ));
+        };
+        while let [only] = bodies(palm).as_slice() {
+            self.dropped
+                .push(palm.attribute("name").unwrap_or("?").to_string());
+            palm = *only;
+        }
+        Ok(palm)
+    }
+
+    /// The frame of `node` (a body, geom, site or inertial) in its parent's: `pos` and one of
+    /// `quat`, `euler` (MuJoCo's default sequence, xyz about the moving axes) or `axisangle`.
+    fn frame(&self, node: Node) -> Result<Transform, FormatError> {
+        let pos = match self.get(node, "pos") {
+            Some(p) => match self.numbers(node, &p, "pos")?.as_slice() {
+                [x, y, z] => Vec3::new(*x, *y, *z),
+                _ => return Err(self.error(node, "pos needs three numbers")),
+            },
+            None => Vec3::zeros(),
+        };
+        Ok(Transform::from_parts(pos.into(), self.orientation(node)?))
+    }
+
+    /// The orientation part of [`Self::frame`].
+    fn orientation(&self, node: Node) -> Result<Rotation, FormatError> {
+        if let Some(q) = self.get(node, "quat") {
+            return match self.numbers(node, &q, "quat")?.as_slice() {
+                [w, x, y, z] => Ok(Rotation::from_quaternion(nalgebra::Quaternion::new(
+                    *w, *x, *y, *z,
+                ))),
+                _ => Err(self.error(node, "quat needs four numbers")),
+            };
+        }
+        if let Some(e) = self.get(node, "euler") {
+            return match self.numbers(node, &e, "euler")?.as_slice() {
+                [a, b, c] => Ok(Rotation::from_axis_angle(&Vec3::x_axis(), self.angle(*a))
+                    * Rotation::from_axis_angle(&Vec3::y_axis(), self.angle(*b))
+                    * Rotation::from_axis_angle(&Vec3::z_axis(), self.angle(*c))),
+                _ => Err(self.error(node, "euler needs three numbers")),
+            };
+        }
+        if let Some(aa) = self.get(node, "axisangle") {
+            return match self.numbers(node, &aa, "axisangle")?.as_slice() {
+                [x, y, z, a] => Ok(Rotation::from_axis_angle(
+                    &nalgebra::Unit::new_normalize(Vec3::new(*x, *y, *z)),
+                    self.angle(*a),
+                )),
+                _ => Err(self.error(node, "axisangle needs four numbers")),
+            };
+        }
+        if self.get(node, "xyaxes").is_some() || self.get(node, "zaxis").is_some() {
+            return Err(self.error(
+                node,
+                "xyaxes and zaxis orientations are not supported yet; use quat or euler",
+            ));
+        }
+        Ok(Rotation::identity())
+    }
+
+    /// One `<body>` as a bone: its frame (the palm's is the hand's), mass, joints, collision
+    /// geoms and, at the end of a finger, its tip.
+    fn one_body(&mut self, body: Node, parent: Option<&str>) -> Result<BonePart, FormatError> {
         let name = body
             .attribute("name")
             .map(str::to_string)
-            .unwrap_or_else(|| format!("body@{}", at(body)));
-        // MuJoCo requires unique body names; the bone tree is linked by name.
-        if parts.bones.iter().any(|b| b.name == name) {
-            return Err(FormatError::at(
-                source,
-                at(body),
-                format!("two bodies are named '{name}'; body names must be unique"),
-            ));
-        }
-        let rest = if parent.is_some() {
-            frame_of(body)?
-        } else {
-            Transform::identity()
+            .unwrap_or_else(|| format!("body@{}", self.at(body)));
+        let rest = match parent {
+            Some(_) => self.frame(body)?,
+            None => Transform::identity(),
         };
-        let mut part = bone(&name, parent.as_deref(), rest);
+        let mut part = bone(&name, parent, rest);
         if let Some(i) = body.children().find(|c| c.has_tag_name("inertial")) {
-            let frame = frame_of(i)?;
-            let mass = i
-                .attribute("mass")
-                .map_or(Ok(vec![0.0]), |m| numbers(i, m, "mass"))?;
-            let tensor = if let Some(d) = i.attribute("diaginertia") {
-                match numbers(i, d, "diaginertia")?.as_slice() {
-                    [a, b, c] => nalgebra::Matrix3::from_diagonal(&Vec3::new(*a, *b, *c)),
-                    _ => {
-                        return Err(FormatError::at(
-                            source,
-                            at(i),
-                            "diaginertia needs three numbers",
-                        ))
-                    }
-                }
-            } else if let Some(f) = i.attribute("fullinertia") {
-                match numbers(i, f, "fullinertia")?.as_slice() {
-                    [xx, yy, zz, xy, xz, yz] => {
-                        nalgebra::Matrix3::new(*xx, *xy, *xz, *xy, *yy, *yz, *xz, *yz, *zz)
-                    }
-                    _ => {
-                        return Err(FormatError::at(
-                            source,
-                            at(i),
-                            "fullinertia needs six numbers",
-                        ))
-                    }
-                }
-            } else {
-                nalgebra::Matrix3::zeros()
-            };
-            let r = frame.rotation.to_rotation_matrix().into_inner();
-            part.inertial = Some(Inertial {
-                mass: mass.first().copied().unwrap_or(0.0),
-                center_of_mass: Point3::from(frame.translation.vector),
-                inertia: r * tensor * r.transpose(),
-            });
+            part.inertial = Some(self.one_inertial(i)?);
         }
+        self.body_joints(body, parent.is_none(), &mut part)?;
+        for g in body.children().filter(|c| c.has_tag_name("geom")) {
+            self.one_geom(g, &mut part)?;
+        }
+        if bodies(body).is_empty() {
+            part.tip = Some(self.tip(body, &part)?);
+        }
+        Ok(part)
+    }
+
+    /// One `<inertial>`: mass, centre of mass and the inertia tensor in the body's frame.
+    fn one_inertial(&self, i: Node) -> Result<Inertial, FormatError> {
+        let frame = self.frame(i)?;
+        let mass = i
+            .attribute("mass")
+            .map_or(Ok(vec![0.0]), |m| self.numbers(i, m, "mass"))?;
+        let tensor = if let Some(d) = i.attribute("diaginertia") {
+            match self.numbers(i, d, "diaginertia")?.as_slice() {
+                [a, b, c] => nalgebra::Matrix3::from_diagonal(&Vec3::new(*a, *b, *c)),
+                _ => return Err(self.error(i, "diaginertia needs three numbers")),
+            }
+        } else if let Some(f) = i.attribute("fullinertia") {
+            match self.numbers(i, f, "fullinertia")?.as_slice() {
+                [xx, yy, zz, xy, xz, yz] => {
+                    nalgebra::Matrix3::new(*xx, *xy, *xz, *xy, *yy, *yz, *xz, *yz, *zz)
+                }
+                _ => return Err(self.error(i, "fullinertia needs six numbers")),
+            }
+        } else {
+            nalgebra::Matrix3::zeros()
+        };
+        let r = frame.rotation.to_rotation_matrix().into_inner();
+        Ok(Inertial {
+            mass: mass.first().copied().unwrap_or(0.0),
+            center_of_mass: Point3::from(frame.translation.vector),
+            inertia: r * tensor * r.transpose(),
+        })
+    }
+
+    /// A body's joints as the bone's: one hinge, two hinges (the first outermost, as MuJoCo
+    /// applies them) or one ball joint. The palm's own joints move the whole hand, as the hook's
+    /// rotations do, and are dropped.
+    fn body_joints(
+        &mut self,
+        body: Node,
+        is_palm: bool,
+        part: &mut BonePart,
+    ) -> Result<(), FormatError> {
         let joints: Vec<Node> = body
             .children()
             .filter(|c| c.has_tag_name("joint"))
             .collect();
-        let mut axes = Vec::new();
+        let mut hinges = Vec::new();
         for j in &joints {
-            let jclass = class_of(*j);
-            let get = |n: &str| defaults.get(*j, &jclass, n);
-            let jname = j.attribute("name").unwrap_or("?").to_string();
-            match get("type").as_deref().unwrap_or("hinge") {
-                "hinge" => {}
-                "ball" => {
-                    // MuJoCo limits a ball joint by one cone angle: each rotation-vector
-                    // component within ±that angle.
-                    let limited = get("limited").is_none_or(|l| l != "false");
-                    let max = match (get("range"), limited) {
-                        (Some(r), true) => match numbers(*j, &r, "range")?.as_slice() {
-                            [_, hi] => angle(*hi).abs(),
-                            _ => return Err(FormatError::at(source, at(*j), "range needs two numbers")),
-                        },
-                        _ => std::f64::consts::PI,
-                    };
+            match self.one_joint(*j)? {
+                JointElement::Hinge(name, axis) => hinges.push((name, axis)),
+                JointElement::Ball(name, max) => {
                     if joints.len() != 1 {
-                        return Err(FormatError::at(source, at(body), format!("body '{name}' mixes a ball joint with others; not supported")));
+                        return Err(self.error(
+                            body,
+                            format!(
+                                "body '{}' mixes a ball joint with others; not supported",
+                                part.name
+                            ),
+                        ));
                     }
-                    part.joint = Joint::Ball { limits: [[-max, max]; 3] };
-                    part.dof_names = ["x", "y", "z"].iter().map(|a| format!("{jname}.{a}")).collect();
-                    continue;
-                }
-                other => {
-                    return Err(FormatError::at(
-                        source,
-                        at(*j),
-                        format!("joint '{jname}' is of type '{other}'; hand bodies may use hinge and ball joints"),
-                    ))
+                    part.joint = Joint::Ball {
+                        limits: [[-max, max]; 3],
+                    };
+                    part.dof_names = ["x", "y", "z"]
+                        .iter()
+                        .map(|a| format!("{name}.{a}"))
+                        .collect();
                 }
             }
-            if let Some(p) = get("pos") {
-                if numbers(*j, &p, "pos")?.iter().any(|v| v.abs() > 1e-9) {
-                    return Err(FormatError::at(source, at(*j), format!("joint '{jname}' is not at its body's origin; this is not supported yet")));
-                }
-            }
-            let axis = match get("axis") {
-                Some(a) => match numbers(*j, &a, "axis")?.as_slice() {
-                    [x, y, z] if Vec3::new(*x, *y, *z).norm() > 1e-12 => Vec3::new(*x, *y, *z),
-                    _ => {
-                        return Err(FormatError::at(
-                            source,
-                            at(*j),
-                            format!("joint '{jname}' needs a non-zero axis"),
-                        ))
-                    }
-                },
-                None => Vec3::z(),
-            };
-            let limited = get("limited").is_none_or(|l| l != "false");
-            let limits = match (get("range"), limited) {
-                (Some(r), true) => match numbers(*j, &r, "range")?.as_slice() {
-                    [lo, hi] => [angle(*lo), angle(*hi)],
-                    _ => return Err(FormatError::at(source, at(*j), "range needs two numbers")),
-                },
-                _ => [-std::f64::consts::PI, std::f64::consts::PI],
-            };
-            axes.push((jname, Axis::new(axis, limits)));
         }
-        if parent.is_none() && !axes.is_empty() {
-            // The palm's own joints move the whole hand, as the hook's rotations do: dropped.
-            dropped.extend(axes.drain(..).map(|(n, _)| n));
+        if is_palm && !hinges.is_empty() {
+            self.dropped.extend(hinges.drain(..).map(|(n, _)| n));
         }
-        match axes.as_slice() {
-            [] if matches!(part.joint, Joint::Ball { .. }) => {}
+        match hinges.as_slice() {
             [] => {}
             [(n, a)] => {
                 part.joint = Joint::Hinge(*a);
                 part.dof_names = vec![n.clone()];
             }
-            // MuJoCo applies a body's joints in order: the first is outermost.
             [(n0, outer), (n1, inner)] => {
                 part.joint = Joint::TwoAxis {
                     flexion: *inner,
@@ -587,119 +634,140 @@ pub fn parse_hand_mjcf_with(
                 part.dof_names = vec![n1.clone(), n0.clone()];
             }
             _ => {
-                return Err(FormatError::at(
-                    source,
-                    at(body),
-                    format!("body '{name}' has more than two joints; not supported"),
+                return Err(self.error(
+                    body,
+                    format!(
+                        "body '{}' has more than two joints; not supported",
+                        part.name
+                    ),
                 ))
             }
         }
-        for g in body.children().filter(|c| c.has_tag_name("geom")) {
-            let gclass = class_of(g);
-            let get = |n: &str| defaults.get(g, &gclass, n);
-            let collides = get("contype").is_none_or(|c| c != "0")
-                || get("conaffinity").is_none_or(|c| c != "0");
-            let kind = get("type").unwrap_or_else(|| "sphere".into());
-            if !collides {
-                continue;
+        Ok(())
+    }
+
+    /// One `<joint>`: a hinge at its body's origin (axis and range) or a ball joint (MuJoCo
+    /// limits it by one cone angle: each rotation-vector component within ± that angle).
+    fn one_joint(&self, j: Node) -> Result<JointElement, FormatError> {
+        let name = j.attribute("name").unwrap_or("?").to_string();
+        let range = |j: Node| -> Result<Option<[f64; 2]>, FormatError> {
+            match (self.get(j, "range"), self.limited(j)) {
+                (Some(r), true) => match self.numbers(j, &r, "range")?.as_slice() {
+                    [lo, hi] => Ok(Some([self.angle(*lo), self.angle(*hi)])),
+                    _ => Err(self.error(j, "range needs two numbers")),
+                },
+                _ => Ok(None),
             }
-            let geom_name = g.attribute("name").unwrap_or("unnamed").to_string();
-            if kind == "mesh" || kind == "plane" || g.has_attribute("mesh") {
-                skipped.push(format!("{geom_name} ({kind})"));
-                continue;
+        };
+        match self.get(j, "type").as_deref().unwrap_or("hinge") {
+            "hinge" => {}
+            "ball" => {
+                let max = range(j)?.map_or(std::f64::consts::PI, |[_, hi]| hi.abs());
+                return Ok(JointElement::Ball(name, max));
             }
-            let size = numbers(g, &get("size").unwrap_or_default(), "size")?;
-            if let (Some(ft), Some(r)) = (get("fromto"), size.first()) {
-                match numbers(g, &ft, "fromto")?.as_slice() {
-                    [a, b, c, d, e, f] => {
-                        part.capsules
-                            .push((Point3::new(*a, *b, *c), Point3::new(*d, *e, *f), *r))
-                    }
-                    _ => {
-                        return Err(FormatError::at(
-                            source,
-                            at(g),
-                            "fromto needs six numbers and size a radius",
-                        ))
-                    }
-                }
-                continue;
+            other => {
+                return Err(self.error(
+                    j,
+                    format!("joint '{name}' is of type '{other}'; hand bodies may use hinge and ball joints"),
+                ))
             }
-            let frame = frame_of(g)?;
-            let half = match (kind.as_str(), size.as_slice()) {
-                ("capsule" | "cylinder", [r, h, ..]) => (Vec3::new(0.0, 0.0, *h), *r),
-                ("sphere", [r, ..]) => (Vec3::zeros(), *r),
-                ("box", [x, y, z]) => {
-                    let capsules = box_capsules(&frame, [*x, *y, *z]);
-                    boxes.push(format!("{geom_name} ({})", capsules.len()));
-                    part.capsules.extend(capsules);
-                    continue;
-                }
-                (other, _) => {
-                    return Err(FormatError::at(
-                        source,
-                        at(g),
-                        format!("geom type '{other}' with size {size:?} is not supported"),
-                    ))
-                }
-            };
-            let (half, radius) = half;
-            part.capsules.push((
-                frame * Point3::from(-half),
-                frame * Point3::from(half),
-                radius,
-            ));
         }
-        let children = bodies(body);
-        if children.is_empty() {
-            let site_tip = body
-                .children()
-                .filter(|c| {
-                    c.has_tag_name("site") && c.attribute("name").is_some_and(|n| n.contains("tip"))
-                })
-                .find_map(|s| frame_of(s).ok())
-                .map(|f| Point3::from(f.translation.vector));
-            let farthest = part
-                .capsules
-                .iter()
-                .flat_map(|c| [c.0, c.1])
-                .max_by(|a, b| a.coords.norm().total_cmp(&b.coords.norm()));
-            part.tip = site_tip.or(farthest);
-            if part.tip.is_none() {
-                return Err(FormatError::at(
-                    source,
-                    at(body),
-                    format!("body '{name}' ends a finger but has no tip site or collision geom"),
+        if let Some(p) = self.get(j, "pos") {
+            if self.numbers(j, &p, "pos")?.iter().any(|v| v.abs() > 1e-9) {
+                return Err(self.error(
+                    j,
+                    format!(
+                        "joint '{name}' is not at its body's origin; this is not supported yet"
+                    ),
                 ));
             }
         }
-        for c in children.iter().rev() {
-            stack.push((*c, Some(name.clone())));
-        }
-        parts.bones.push(part);
+        let axis = match self.get(j, "axis") {
+            Some(a) => match self.numbers(j, &a, "axis")?.as_slice() {
+                [x, y, z] if Vec3::new(*x, *y, *z).norm() > 1e-12 => Vec3::new(*x, *y, *z),
+                _ => return Err(self.error(j, format!("joint '{name}' needs a non-zero axis"))),
+            },
+            None => Vec3::z(),
+        };
+        let limits = range(j)?.unwrap_or([-std::f64::consts::PI, std::f64::consts::PI]);
+        Ok(JointElement::Hinge(name, Axis::new(axis, limits)))
     }
-    // Finger names from each chain's bodies.
-    let first_bones: Vec<usize> = (0..parts.bones.len())
-        .filter(|&i| parts.bones[i].parent.as_deref() == Some(parts.bones[0].name.as_str()))
-        .collect();
-    for i in first_bones {
-        let mut names = vec![parts.bones[i].name.clone()];
-        let mut at_name = parts.bones[i].name.clone();
-        while let Some(next) = parts
-            .bones
-            .iter()
-            .find(|b| b.parent.as_deref() == Some(at_name.as_str()))
-        {
-            names.push(next.name.clone());
-            at_name = next.name.clone();
+
+    /// One `<geom>` that collides, as capsules of the bone: capsules and cylinders by `fromto`
+    /// or size, spheres, boxes as rows of capsules within 1 mm of their faces. Meshes and planes
+    /// are named in the description as skipped.
+    fn one_geom(&mut self, g: Node, part: &mut BonePart) -> Result<(), FormatError> {
+        let collides = self.get(g, "contype").is_none_or(|c| c != "0")
+            || self.get(g, "conaffinity").is_none_or(|c| c != "0");
+        if !collides {
+            return Ok(());
         }
-        parts.bones[i].finger = names
-            .iter()
-            .find_map(|n| finger_name(n))
-            .map(str::to_string);
+        let kind = self.get(g, "type").unwrap_or_else(|| "sphere".into());
+        let geom_name = g.attribute("name").unwrap_or("unnamed").to_string();
+        if kind == "mesh" || kind == "plane" || g.has_attribute("mesh") {
+            self.skipped.push(format!("{geom_name} ({kind})"));
+            return Ok(());
+        }
+        let size = self.numbers(g, &self.get(g, "size").unwrap_or_default(), "size")?;
+        if let (Some(ft), Some(r)) = (self.get(g, "fromto"), size.first()) {
+            return match self.numbers(g, &ft, "fromto")?.as_slice() {
+                [a, b, c, d, e, f] => {
+                    part.capsules
+                        .push((Point3::new(*a, *b, *c), Point3::new(*d, *e, *f), *r));
+                    Ok(())
+                }
+                _ => Err(self.error(g, "fromto needs six numbers and size a radius")),
+            };
+        }
+        let frame = self.frame(g)?;
+        let (half, radius) = match (kind.as_str(), size.as_slice()) {
+            ("capsule" | "cylinder", [r, h, ..]) => (Vec3::new(0.0, 0.0, *h), *r),
+            ("sphere", [r, ..]) => (Vec3::zeros(), *r),
+            ("box", [x, y, z]) => {
+                let capsules = box_capsules(&frame, [*x, *y, *z]);
+                self.boxes.push(format!("{geom_name} ({})", capsules.len()));
+                part.capsules.extend(capsules);
+                return Ok(());
+            }
+            (other, _) => {
+                return Err(self.error(
+                    g,
+                    format!("geom type '{other}' with size {size:?} is not supported"),
+                ))
+            }
+        };
+        part.capsules.push((
+            frame * Point3::from(-half),
+            frame * Point3::from(half),
+            radius,
+        ));
+        Ok(())
     }
-    // Two-joint fixed tendons with a tight range hold c1·q1 + c2·q2 ≈ 0: q1 = −(c2/c1)·q2.
-    for t in root.descendants().filter(|n| n.has_tag_name("fixed")) {
+
+    /// The tip of a body that ends a finger: a site named `…tip…`, else the capsule end
+    /// farthest from the body's origin.
+    fn tip(&self, body: Node, part: &BonePart) -> Result<Point3, FormatError> {
+        body.children()
+            .filter(|c| {
+                c.has_tag_name("site") && c.attribute("name").is_some_and(|n| n.contains("tip"))
+            })
+            .find_map(|s| self.frame(s).ok())
+            .map(|f| Point3::from(f.translation.vector))
+            .or_else(|| farthest_capsule_end(&part.capsules))
+            .ok_or_else(|| {
+                self.error(
+                    body,
+                    format!(
+                        "body '{}' ends a finger but has no tip site or collision geom",
+                        part.name
+                    ),
+                )
+            })
+    }
+
+    /// One `<fixed>` tendon: two joints in a tight range hold c1·q1 + c2·q2 ≈ 0, so
+    /// q1 = −(c2/c1)·q2, a coupling of the hand. Other tendons are not read.
+    fn one_fixed_tendon(&self, t: Node, parts: &mut HandParts) {
         let members: Vec<(String, f64)> = t
             .children()
             .filter(|c| c.has_tag_name("joint"))
@@ -712,7 +780,7 @@ pub fn parse_hand_mjcf_with(
             .collect();
         let tight = t
             .attribute("range")
-            .and_then(|r| numbers(t, r, "range").ok())
+            .and_then(|r| self.numbers(t, r, "range").ok())
             .is_some_and(|r| r.len() == 2 && r[0].abs() < 0.005 && r[1].abs() < 0.005);
         if let ([(follower, c1), (leader, c2)], true) = (members.as_slice(), tight) {
             let all: Vec<&String> = parts.bones.iter().flat_map(|b| &b.dof_names).collect();
@@ -723,23 +791,27 @@ pub fn parse_hand_mjcf_with(
             }
         }
     }
-    parts.description = format!("imported from {source}");
-    if !dropped.is_empty() {
-        parts.description += &format!("; dropped above the palm: {}", dropped.join(", "));
+
+    /// The hand's description: its source and what was dropped, approximated or skipped.
+    fn description(&self) -> String {
+        let mut d = format!("imported from {}", self.source);
+        if !self.dropped.is_empty() {
+            d += &format!("; dropped above the palm: {}", self.dropped.join(", "));
+        }
+        if !self.boxes.is_empty() {
+            d += &format!(
+                "; boxes as capsules within 1 mm of their two largest faces, edges rounded: {}",
+                self.boxes.join(", ")
+            );
+        }
+        if !self.skipped.is_empty() {
+            d += &format!(
+                "; collision geoms skipped (meshes and planes are not supported): {}",
+                self.skipped.join(", ")
+            );
+        }
+        d
     }
-    if !boxes.is_empty() {
-        parts.description += &format!(
-            "; boxes as capsules within 1 mm of their two largest faces, edges rounded: {}",
-            boxes.join(", ")
-        );
-    }
-    if !skipped.is_empty() {
-        parts.description += &format!(
-            "; collision geoms skipped (meshes and planes are not supported): {}",
-            skipped.join(", ")
-        );
-    }
-    build_in_hand_frame(parts, source, sidecar)
 }
 
 #[cfg(test)]

@@ -5,16 +5,19 @@
 
 use std::collections::HashMap;
 
-use prehensile_core::hand::{Axis, HandParts, Inertial, Joint};
+use prehensile_core::hand::{Axis, BonePart, HandParts, Inertial, Joint};
 use prehensile_core::math::{Point3, Rotation, Transform, Vec3};
 use prehensile_core::HandModel;
 use roxmltree::{Document, Node};
 
 use crate::hand_import::{
-    bone, box_capsules, build_in_hand_frame, file_stem, finger_name, radius_from_mass, Sidecar,
+    bone, box_capsules, build_in_hand_frame, farthest_capsule_end, file_stem, name_fingers,
+    radius_from_mass, Sidecar,
 };
 use crate::FormatError;
 
+/// A `<link>` as read: its mass and centre of mass (for guessed radii and tips), its inertial
+/// if it has an inertia tensor, and its collision capsules.
 struct Link {
     mass: f64,
     com: Point3,
@@ -35,101 +38,22 @@ pub fn parse_hand_urdf_with(
 ) -> Result<HandModel, FormatError> {
     let doc = Document::parse(text)
         .map_err(|e| FormatError::at(source, format!("line {}", e.pos().row), e.to_string()))?;
-    let at = |node: Node| format!("line {}", doc.text_pos_at(node.range().start).row);
+    let reader = UrdfReader { doc: &doc, source };
     let robot = doc.root_element();
     if robot.tag_name().name() != "robot" {
-        return Err(FormatError::at(
-            source,
-            at(robot),
-            "a URDF file's root element is <robot>",
-        ));
+        return Err(reader.error(robot, "a URDF file's root element is <robot>"));
     }
     let mut links: HashMap<String, Link> = HashMap::new();
     let mut order = Vec::new();
     for link in robot.children().filter(|n| n.has_tag_name("link")) {
-        let name = attr(link, "name", source, &at)?.to_string();
-        let mut mass = 0.0;
-        let mut com = Point3::origin();
-        let mut full = None;
-        if let Some(inertial) = child(link, "inertial") {
-            if let Some(m) = child(inertial, "mass") {
-                mass = number(m, "value", source, &at)?;
-            }
-            let frame = match child(inertial, "origin") {
-                Some(o) => origin(o, source, &at)?,
-                None => Transform::identity(),
-            };
-            com = Point3::from(frame.translation.vector);
-            if let Some(i) = child(inertial, "inertia") {
-                let v = |n: &str| {
-                    i.attribute(n)
-                        .map_or(Ok(0.0), |_| number(i, n, source, &at))
-                };
-                let (xx, xy, xz, yy, yz, zz) = (
-                    v("ixx")?,
-                    v("ixy")?,
-                    v("ixz")?,
-                    v("iyy")?,
-                    v("iyz")?,
-                    v("izz")?,
-                );
-                let tensor = nalgebra::Matrix3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz);
-                let r = frame.rotation.to_rotation_matrix().into_inner();
-                full = Some(Inertial {
-                    mass,
-                    center_of_mass: com,
-                    inertia: r * tensor * r.transpose(),
-                });
-            }
+        let name = reader.attr(link, "name")?.to_string();
+        if links.insert(name.clone(), reader.one_link(link)?).is_some() {
+            return Err(reader.error(
+                link,
+                format!("two links are named '{name}'; link names must be unique"),
+            ));
         }
-        let mut capsules = Vec::new();
-        for collision in link.children().filter(|n| n.has_tag_name("collision")) {
-            let frame = match child(collision, "origin") {
-                Some(o) => origin(o, source, &at)?,
-                None => Transform::identity(),
-            };
-            let Some(geometry) =
-                child(collision, "geometry").and_then(|g| g.children().find(|n| n.is_element()))
-            else {
-                continue;
-            };
-            let segment = |half: f64, radius: f64| {
-                (
-                    frame * Point3::new(0.0, 0.0, -half),
-                    frame * Point3::new(0.0, 0.0, half),
-                    radius,
-                )
-            };
-            match geometry.tag_name().name() {
-                "cylinder" | "capsule" => capsules.push(segment(
-                    number(geometry, "length", source, &at)? / 2.0,
-                    number(geometry, "radius", source, &at)?,
-                )),
-                "sphere" => capsules.push(segment(0.0, number(geometry, "radius", source, &at)?)),
-                "box" => {
-                    let size = vector(geometry, "size", source, &at)?;
-                    capsules.extend(box_capsules(&frame, (size / 2.0).into()));
-                }
-                "mesh" => continue,
-                other => {
-                    return Err(FormatError::at(
-                        source,
-                        at(geometry),
-                        format!("unknown collision geometry <{other}>"),
-                    ))
-                }
-            }
-        }
-        order.push(name.clone());
-        links.insert(
-            name,
-            Link {
-                mass,
-                com,
-                inertial: full,
-                capsules,
-            },
-        );
+        order.push(name);
     }
     let mut parts = HandParts {
         rigid_couplings: true,
@@ -140,80 +64,16 @@ pub fn parse_hand_urdf_with(
         description: format!("imported from {source}"),
         ..Default::default()
     };
-    let mut parent_of: HashMap<String, String> = HashMap::new();
     let mut bones = HashMap::new();
     for joint in robot.children().filter(|n| n.has_tag_name("joint")) {
-        let name = attr(joint, "name", source, &at)?;
-        let kind = attr(joint, "type", source, &at)?;
-        let parent = attr(
-            child_req(joint, "parent", source, &at)?,
-            "link",
-            source,
-            &at,
-        )?;
-        let child_link = attr(child_req(joint, "child", source, &at)?, "link", source, &at)?;
-        if !links.contains_key(parent) || !links.contains_key(child_link) {
-            return Err(FormatError::at(
-                source,
-                at(joint),
-                format!("joint '{name}' connects links that are not defined"),
-            ));
+        let part = reader.one_joint(joint, &links, &mut parts)?;
+        let child_link = part.name.clone();
+        if bones.insert(child_link.clone(), part).is_some() {
+            return Err(reader.error(joint, format!("link '{child_link}' has two parent joints")));
         }
-        let rest = match child(joint, "origin") {
-            Some(o) => origin(o, source, &at)?,
-            None => Transform::identity(),
-        };
-        let axis = match child(joint, "axis") {
-            Some(a) => vector(a, "xyz", source, &at)?,
-            None => Vec3::x(),
-        };
-        let mut part = bone(child_link, Some(parent), rest);
-        match kind {
-            "revolute" | "continuous" => {
-                let limits = match (kind, child(joint, "limit")) {
-                    ("revolute", Some(l)) => [number(l, "lower", source, &at)?, number(l, "upper", source, &at)?],
-                    ("revolute", None) => {
-                        return Err(FormatError::at(source, at(joint), format!("revolute joint '{name}' has no <limit>")))
-                    }
-                    _ => [-std::f64::consts::PI, std::f64::consts::PI],
-                };
-                if axis.norm() < 1e-12 {
-                    return Err(FormatError::at(source, at(joint), format!("joint '{name}' has a zero axis")));
-                }
-                part.joint = Joint::Hinge(Axis::new(axis, limits));
-                part.dof_names = vec![name.to_string()];
-                if let Some(m) = child(joint, "mimic") {
-                    let leader = attr(m, "joint", source, &at)?;
-                    let ratio = m.attribute("multiplier").map_or(Ok(1.0), |_| number(m, "multiplier", source, &at))?;
-                    parts.couplings.push((name.to_string(), leader.to_string(), ratio));
-                }
-            }
-            "fixed" => {}
-            other => {
-                return Err(FormatError::at(
-                    source,
-                    at(joint),
-                    format!("joint '{name}' is of type '{other}'; hands may use revolute, continuous and fixed joints"),
-                ))
-            }
-        }
-        if parent_of
-            .insert(child_link.to_string(), parent.to_string())
-            .is_some()
-        {
-            return Err(FormatError::at(
-                source,
-                at(joint),
-                format!("link '{child_link}' has two parent joints"),
-            ));
-        }
-        bones.insert(child_link.to_string(), part);
     }
     // The root: the link no joint moves.
-    let roots: Vec<&String> = order
-        .iter()
-        .filter(|l| !parent_of.contains_key(*l))
-        .collect();
+    let roots: Vec<&String> = order.iter().filter(|l| !bones.contains_key(*l)).collect();
     let [root] = roots.as_slice() else {
         return Err(FormatError::new(
             source,
@@ -221,83 +81,305 @@ pub fn parse_hand_urdf_with(
         ));
     };
     bones.insert(root.to_string(), bone(root, None, Transform::identity()));
-    let root = root.to_string();
-    let children_of = |l: &str| -> Vec<String> {
-        order
-            .iter()
-            .filter(|c| parent_of.get(*c).is_some_and(|p| p == l))
-            .cloned()
-            .collect()
-    };
-    // Where each link's children's joints are, in the link's frame.
-    let child_joints: HashMap<String, Vec<Point3>> = order
-        .iter()
-        .map(|l| {
-            let ends = children_of(l)
-                .iter()
-                .map(|c| Point3::from(bones[c].rest.translation.vector))
-                .collect();
-            (l.clone(), ends)
-        })
-        .collect();
-    for name in &order {
-        let link = &links[name];
-        let ends = &child_joints[name];
-        let part = bones.get_mut(name).expect("every link is a bone");
-        part.capsules = link.capsules.clone();
-        part.inertial = link.inertial;
-        if part.capsules.is_empty() {
-            if *name == root {
-                // The palm: a capsule to each finger's first joint.
-                for end in ends {
-                    let length = end.coords.norm();
-                    let radius =
-                        radius_from_mass(link.mass / ends.len().max(1) as f64, length).min(0.015);
-                    if length > 1e-6 {
-                        part.capsules.push((Point3::origin(), *end, radius));
-                    }
-                }
-            } else {
-                let end = ends
-                    .first()
-                    .copied()
-                    .unwrap_or_else(|| Point3::from(link.com.coords * 2.0));
-                let length = end.coords.norm();
-                if length > 1e-6 {
-                    part.capsules.push((
-                        Point3::origin(),
-                        end,
-                        radius_from_mass(link.mass, length),
-                    ));
-                }
-            }
-        }
-        if ends.is_empty() && *name != root {
-            // The fingertip: the capsule end farthest from the joint, else twice the centre of mass.
-            let tip = part
-                .capsules
-                .iter()
-                .flat_map(|c| [c.0, c.1])
-                .max_by(|a, b| a.coords.norm().total_cmp(&b.coords.norm()))
-                .unwrap_or_else(|| Point3::from(link.com.coords * 2.0));
-            part.tip = Some(tip);
-        }
-    }
-    for c in children_of(&root) {
-        let mut chain = vec![c.clone()];
-        while let [next] = children_of(chain.last().expect("non-empty")).as_slice() {
-            chain.push(next.clone());
-        }
-        bones.get_mut(&c).expect("bone").finger = chain
-            .iter()
-            .find_map(|b| finger_name(b))
-            .map(str::to_string);
-    }
     parts.bones = order
         .iter()
         .map(|l| bones.remove(l).expect("every link is a bone"))
         .collect();
+    // Where each bone's children's joints are, in its frame.
+    let ends: Vec<Vec<Point3>> = parts
+        .bones
+        .iter()
+        .map(|b| {
+            parts
+                .bones
+                .iter()
+                .filter(|c| c.parent.as_deref() == Some(b.name.as_str()))
+                .map(|c| Point3::from(c.rest.translation.vector))
+                .collect()
+        })
+        .collect();
+    for (part, ends) in parts.bones.iter_mut().zip(&ends) {
+        let link = links.remove(&part.name).expect("every bone is a link");
+        link_shapes(part, link, ends);
+    }
+    name_fingers(&mut parts);
     build_in_hand_frame(parts, source, sidecar)
+}
+
+/// A bone's capsules, inertial and tip from its link: the link's collision capsules, or where
+/// it has none a capsule to each child's joint (the palm: to every finger's first joint) with a
+/// radius guessed from its mass; at the end of a finger the capsule end farthest from the
+/// joint, else twice the centre of mass, as the tip.
+fn link_shapes(part: &mut BonePart, link: Link, ends: &[Point3]) {
+    let is_root = part.parent.is_none();
+    part.inertial = link.inertial;
+    part.capsules = link.capsules;
+    if part.capsules.is_empty() {
+        if is_root {
+            for end in ends {
+                let length = end.coords.norm();
+                let radius =
+                    radius_from_mass(link.mass / ends.len().max(1) as f64, length).min(0.015);
+                if length > 1e-6 {
+                    part.capsules.push((Point3::origin(), *end, radius));
+                }
+            }
+        } else {
+            let end = ends
+                .first()
+                .copied()
+                .unwrap_or_else(|| Point3::from(link.com.coords * 2.0));
+            let length = end.coords.norm();
+            if length > 1e-6 {
+                part.capsules
+                    .push((Point3::origin(), end, radius_from_mass(link.mass, length)));
+            }
+        }
+    }
+    if ends.is_empty() && !is_root {
+        part.tip = Some(
+            farthest_capsule_end(&part.capsules)
+                .unwrap_or_else(|| Point3::from(link.com.coords * 2.0)),
+        );
+    }
+}
+
+/// Reads the elements of one URDF document, one method per element.
+struct UrdfReader<'d, 'i> {
+    doc: &'d Document<'i>,
+    source: &'d str,
+}
+
+impl UrdfReader<'_, '_> {
+    /// An error at `node`.
+    fn error(&self, node: Node, message: impl Into<String>) -> FormatError {
+        FormatError::at(
+            self.source,
+            format!("line {}", self.doc.text_pos_at(node.range().start).row),
+            message,
+        )
+    }
+
+    /// One `<link>`: its inertial and collision geometry.
+    fn one_link(&self, link: Node) -> Result<Link, FormatError> {
+        let mut read = Link {
+            mass: 0.0,
+            com: Point3::origin(),
+            inertial: None,
+            capsules: Vec::new(),
+        };
+        if let Some(inertial) = child(link, "inertial") {
+            self.one_inertial(inertial, &mut read)?;
+        }
+        for collision in link.children().filter(|n| n.has_tag_name("collision")) {
+            self.one_collision(collision, &mut read.capsules)?;
+        }
+        Ok(read)
+    }
+
+    /// One `<inertial>`: mass, centre of mass and, with an `<inertia>`, the whole inertial in
+    /// the link's frame.
+    fn one_inertial(&self, inertial: Node, link: &mut Link) -> Result<(), FormatError> {
+        if let Some(m) = child(inertial, "mass") {
+            link.mass = self.number(m, "value")?;
+        }
+        let frame = self.origin_of(inertial)?;
+        link.com = Point3::from(frame.translation.vector);
+        if let Some(i) = child(inertial, "inertia") {
+            let v = |n: &str| i.attribute(n).map_or(Ok(0.0), |_| self.number(i, n));
+            let (xx, xy, xz, yy, yz, zz) = (
+                v("ixx")?,
+                v("ixy")?,
+                v("ixz")?,
+                v("iyy")?,
+                v("iyz")?,
+                v("izz")?,
+            );
+            let tensor = nalgebra::Matrix3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz);
+            let r = frame.rotation.to_rotation_matrix().into_inner();
+            link.inertial = Some(Inertial {
+                mass: link.mass,
+                center_of_mass: link.com,
+                inertia: r * tensor * r.transpose(),
+            });
+        }
+        Ok(())
+    }
+
+    /// One `<collision>`: cylinders, capsules and spheres as one capsule, boxes as rows of
+    /// capsules; meshes are not read.
+    fn one_collision(
+        &self,
+        collision: Node,
+        capsules: &mut Vec<(Point3, Point3, f64)>,
+    ) -> Result<(), FormatError> {
+        let frame = self.origin_of(collision)?;
+        let Some(geometry) =
+            child(collision, "geometry").and_then(|g| g.children().find(|n| n.is_element()))
+        else {
+            return Ok(());
+        };
+        let segment = |half: f64, radius: f64| {
+            (
+                frame * Point3::new(0.0, 0.0, -half),
+                frame * Point3::new(0.0, 0.0, half),
+                radius,
+            )
+        };
+        match geometry.tag_name().name() {
+            "cylinder" | "capsule" => capsules.push(segment(
+                self.number(geometry, "length")? / 2.0,
+                self.number(geometry, "radius")?,
+            )),
+            "sphere" => capsules.push(segment(0.0, self.number(geometry, "radius")?)),
+            "box" => {
+                let size = self.vector(geometry, "size")?;
+                capsules.extend(box_capsules(&frame, (size / 2.0).into()));
+            }
+            "mesh" => {}
+            other => {
+                return Err(self.error(geometry, format!("unknown collision geometry <{other}>")))
+            }
+        }
+        Ok(())
+    }
+
+    /// One `<joint>` as the bone of its child link: revolute and continuous joints are hinges
+    /// (a `<mimic>` adds a coupling to `parts`), fixed joints fixed.
+    fn one_joint(
+        &self,
+        joint: Node,
+        links: &HashMap<String, Link>,
+        parts: &mut HandParts,
+    ) -> Result<BonePart, FormatError> {
+        let name = self.attr(joint, "name")?;
+        let kind = self.attr(joint, "type")?;
+        let parent = self.attr(self.child_req(joint, "parent")?, "link")?;
+        let child_link = self.attr(self.child_req(joint, "child")?, "link")?;
+        if !links.contains_key(parent) || !links.contains_key(child_link) {
+            return Err(self.error(
+                joint,
+                format!("joint '{name}' connects links that are not defined"),
+            ));
+        }
+        let rest = self.origin_of(joint)?;
+        let axis = match child(joint, "axis") {
+            Some(a) => self.vector(a, "xyz")?,
+            None => Vec3::x(),
+        };
+        let mut part = bone(child_link, Some(parent), rest);
+        match kind {
+            "revolute" | "continuous" => {
+                let limits = match (kind, child(joint, "limit")) {
+                    ("revolute", Some(l)) => [self.number(l, "lower")?, self.number(l, "upper")?],
+                    ("revolute", None) => {
+                        return Err(self.error(
+                            joint,
+                            format!("revolute joint '{name}' has no <limit>"),
+                        ))
+                    }
+                    _ => [-std::f64::consts::PI, std::f64::consts::PI],
+                };
+                if axis.norm() < 1e-12 {
+                    return Err(self.error(joint, format!("joint '{name}' has a zero axis")));
+                }
+                part.joint = Joint::Hinge(Axis::new(axis, limits));
+                part.dof_names = vec![name.to_string()];
+                if let Some(m) = child(joint, "mimic") {
+                    let leader = self.attr(m, "joint")?;
+                    let ratio = m
+                        .attribute("multiplier")
+                        .map_or(Ok(1.0), |_| self.number(m, "multiplier"))?;
+                    parts
+                        .couplings
+                        .push((name.to_string(), leader.to_string(), ratio));
+                }
+            }
+            "fixed" => {}
+            other => {
+                return Err(self.error(
+                    joint,
+                    format!("joint '{name}' is of type '{other}'; hands may use revolute, continuous and fixed joints"),
+                ))
+            }
+        }
+        Ok(part)
+    }
+
+    /// The `<{tag}>` child of `node`, which must have one.
+    fn child_req<'a, 'i>(
+        &self,
+        node: Node<'a, 'i>,
+        tag: &str,
+    ) -> Result<Node<'a, 'i>, FormatError> {
+        child(node, tag).ok_or_else(|| {
+            self.error(
+                node,
+                format!("<{}> needs a <{tag}>", node.tag_name().name()),
+            )
+        })
+    }
+
+    /// Attribute `name` of `node`, which must have it.
+    fn attr<'a>(&self, node: Node<'a, '_>, name: &str) -> Result<&'a str, FormatError> {
+        node.attribute(name).ok_or_else(|| {
+            self.error(
+                node,
+                format!("<{}> needs a '{name}' attribute", node.tag_name().name()),
+            )
+        })
+    }
+
+    /// The finite numbers of attribute `name`.
+    fn numbers(&self, node: Node, name: &str) -> Result<Vec<f64>, FormatError> {
+        self.attr(node, name)?
+            .split_whitespace()
+            .map(|w| {
+                w.parse::<f64>()
+                    .ok()
+                    .filter(|v| v.is_finite())
+                    .ok_or_else(|| {
+                        self.error(node, format!("'{w}' in '{name}' is not a finite number"))
+                    })
+            })
+            .collect()
+    }
+
+    /// Attribute `name` as one number.
+    fn number(&self, node: Node, name: &str) -> Result<f64, FormatError> {
+        match self.numbers(node, name)?.as_slice() {
+            [v] => Ok(*v),
+            _ => Err(self.error(node, format!("'{name}' should be one number"))),
+        }
+    }
+
+    /// Attribute `name` as three numbers.
+    fn vector(&self, node: Node, name: &str) -> Result<Vec3, FormatError> {
+        match self.numbers(node, name)?.as_slice() {
+            [x, y, z] => Ok(Vec3::new(*x, *y, *z)),
+            _ => Err(self.error(node, format!("'{name}' should be three numbers"))),
+        }
+    }
+
+    /// The `<origin xyz rpy>` child of `node` (identity without one): URDF's fixed-axis roll,
+    /// pitch, yaw, R = Rz(yaw)·Ry(pitch)·Rx(roll).
+    fn origin_of(&self, node: Node) -> Result<Transform, FormatError> {
+        let Some(o) = child(node, "origin") else {
+            return Ok(Transform::identity());
+        };
+        let read = |name| {
+            if o.has_attribute(name) {
+                self.vector(o, name)
+            } else {
+                Ok(Vec3::zeros())
+            }
+        };
+        let (xyz, rpy) = (read("xyz")?, read("rpy")?);
+        Ok(Transform::from_parts(
+            xyz.into(),
+            Rotation::from_euler_angles(rpy.x, rpy.y, rpy.z),
+        ))
+    }
 }
 
 /// Reads a URDF hand file.
@@ -307,109 +389,7 @@ pub fn load_hand_urdf(path: &std::path::Path) -> Result<HandModel, FormatError> 
     parse_hand_urdf_with(&text, &name, Sidecar::beside(path)?.as_ref())
 }
 
+/// The first `<{tag}>` child of `node`.
 fn child<'a, 'i>(node: Node<'a, 'i>, tag: &str) -> Option<Node<'a, 'i>> {
     node.children().find(|n| n.has_tag_name(tag))
-}
-
-fn child_req<'a, 'i>(
-    node: Node<'a, 'i>,
-    tag: &str,
-    source: &str,
-    at: &dyn Fn(Node) -> String,
-) -> Result<Node<'a, 'i>, FormatError> {
-    child(node, tag).ok_or_else(|| {
-        FormatError::at(
-            source,
-            at(node),
-            format!("<{}> needs a <{tag}>", node.tag_name().name()),
-        )
-    })
-}
-
-fn attr<'a>(
-    node: Node<'a, '_>,
-    name: &str,
-    source: &str,
-    at: &dyn Fn(Node) -> String,
-) -> Result<&'a str, FormatError> {
-    node.attribute(name).ok_or_else(|| {
-        FormatError::at(
-            source,
-            at(node),
-            format!("<{}> needs a '{name}' attribute", node.tag_name().name()),
-        )
-    })
-}
-
-fn numbers(
-    node: Node,
-    name: &str,
-    source: &str,
-    at: &dyn Fn(Node) -> String,
-) -> Result<Vec<f64>, FormatError> {
-    attr(node, name, source, at)?
-        .split_whitespace()
-        .map(|w| {
-            w.parse::<f64>()
-                .ok()
-                .filter(|v| v.is_finite())
-                .ok_or_else(|| {
-                    FormatError::at(
-                        source,
-                        at(node),
-                        format!("'{w}' in '{name}' is not a finite number"),
-                    )
-                })
-        })
-        .collect()
-}
-
-fn number(
-    node: Node,
-    name: &str,
-    source: &str,
-    at: &dyn Fn(Node) -> String,
-) -> Result<f64, FormatError> {
-    match numbers(node, name, source, at)?.as_slice() {
-        [v] => Ok(*v),
-        _ => Err(FormatError::at(
-            source,
-            at(node),
-            format!("'{name}' should be one number"),
-        )),
-    }
-}
-
-fn vector(
-    node: Node,
-    name: &str,
-    source: &str,
-    at: &dyn Fn(Node) -> String,
-) -> Result<Vec3, FormatError> {
-    match numbers(node, name, source, at)?.as_slice() {
-        [x, y, z] => Ok(Vec3::new(*x, *y, *z)),
-        _ => Err(FormatError::at(
-            source,
-            at(node),
-            format!("'{name}' should be three numbers"),
-        )),
-    }
-}
-
-/// `<origin xyz rpy>`: URDF's fixed-axis roll, pitch, yaw (R = Rz(yaw)·Ry(pitch)·Rx(roll)).
-fn origin(node: Node, source: &str, at: &dyn Fn(Node) -> String) -> Result<Transform, FormatError> {
-    let xyz = if node.has_attribute("xyz") {
-        vector(node, "xyz", source, at)?
-    } else {
-        Vec3::zeros()
-    };
-    let rpy = if node.has_attribute("rpy") {
-        vector(node, "rpy", source, at)?
-    } else {
-        Vec3::zeros()
-    };
-    Ok(Transform::from_parts(
-        xyz.into(),
-        Rotation::from_euler_angles(rpy.x, rpy.y, rpy.z),
-    ))
 }

@@ -239,6 +239,26 @@ fn two_mjcf_bodies_with_one_name_are_refused_instead_of_looping() {
 }
 
 #[test]
+fn two_urdf_links_with_one_name_are_refused_instead_of_panicking() {
+    // Found while splitting the URDF reader into one method per element: a link defined twice
+    // and moved by a joint left the bone list one bone short, and the importer panicked.
+    let urdf = |second: &str| {
+        format!(
+            r#"<robot name="r"><link name="palm"/><link name="a"/><link name="{second}"/>
+            <joint name="j" type="fixed"><parent link="palm"/><child link="a"/></joint>
+            <joint name="k" type="fixed"><parent link="palm"/><child link="b"/></joint></robot>"#
+        )
+    };
+    // With distinct names the file reads on to the hand's own checks (no fingertip here).
+    let distinct = prehensile_formats::parse_hand_urdf(&urdf("b"), "r.urdf").unwrap_err();
+    assert!(!distinct.to_string().contains("named"), "{distinct}");
+    let e = prehensile_formats::parse_hand_urdf(&urdf("a"), "r.urdf")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("two links are named 'a'"), "{e}");
+}
+
+#[test]
 fn hands_and_meshes_read_from_bytes_as_from_files() {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets");
     let toml = std::fs::read(dir.join("hands/robot3.toml")).unwrap();
