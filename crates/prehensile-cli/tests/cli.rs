@@ -189,6 +189,20 @@ fn grasp_writes_a_gltf_scene_and_imported_hands_work() {
         "--json",
     ]);
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let out = prehensile(&[
+        "hands",
+        "--file",
+        &asset("hands/shadow_hand/reach.xml"),
+        "--json",
+    ]);
+    // The derived frame: the Shadow palm body's fingers point along its +z, its palm faces -y.
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let frame = &json[0]["frame"];
+    assert!(
+        frame["fingers_along"][2].as_f64().unwrap() > 0.95,
+        "{frame}"
+    );
+    assert!(frame["palm_normal"][1].as_f64().unwrap() < -0.95, "{frame}");
     let out = prehensile(&["hands", "--file", &asset("hands/shadow_hand/robot.xml")]);
     assert_eq!(out.status.code(), Some(2));
     assert!(

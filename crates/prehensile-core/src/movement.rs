@@ -168,7 +168,7 @@ impl GraspMovement {
 
     /// A movement from the open pose to `end` (limits and couplings applied) with the given
     /// grasp center and contact fingers; see [`crate::movement_derivation`].
-    pub(crate) fn derived(
+    pub fn to_end_pose(
         hand: &HandModel,
         name: &str,
         mut end: Vec<f64>,

@@ -85,7 +85,7 @@ pub fn derive_power(hand: &HandModel) -> Option<GraspMovement> {
         })
         .collect();
     let end = reach_targets(hand, &targets);
-    Some(GraspMovement::derived(
+    Some(GraspMovement::to_end_pose(
         hand,
         "power",
         end,
@@ -110,7 +110,7 @@ pub fn derive_precision(hand: &HandModel) -> Option<GraspMovement> {
         })
         .collect();
     let end = reach_targets(hand, &targets);
-    Some(GraspMovement::derived(
+    Some(GraspMovement::to_end_pose(
         hand,
         "precision",
         end,

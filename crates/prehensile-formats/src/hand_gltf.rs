@@ -62,7 +62,7 @@ pub fn load_hand_gltf_skinned(path: &Path) -> Result<(HandModel, SkinnedMesh), F
     let sidecar = crate::Sidecar::beside(path)?;
     if sidecar
         .as_ref()
-        .is_some_and(|s| !s.tips.is_empty() || !s.close.is_empty())
+        .is_some_and(|s| !s.tips.is_empty() || !s.close.is_empty() || !s.movements.is_empty())
     {
         return Err(FormatError::new(
             &name,

@@ -3,6 +3,7 @@
 
 use prehensile_core::hand::{BonePart, HandParts};
 use prehensile_core::math::{Point3, Rotation, Transform, Vec3};
+use prehensile_core::movement::GraspMovement;
 use prehensile_core::HandModel;
 
 use crate::FormatError;
@@ -94,6 +95,77 @@ pub struct Sidecar {
     /// replaces the derived `close` targets.
     #[serde(default)]
     pub close: std::collections::BTreeMap<String, f64>,
+    /// Movement name (`power`, `precision` or a new one) -> what to change in it or give it.
+    #[serde(default)]
+    pub movements: std::collections::BTreeMap<String, MovementOverride>,
+}
+
+/// A sidecar's `[movements.NAME]`: the end angles of named joints (the others keep the derived
+/// movement's end, or the open pose for a new movement), the grasp centre and the fingers that
+/// must touch.
+#[derive(Debug, Clone, Default, PartialEq, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MovementOverride {
+    /// Joint (degree of freedom) name -> end angle, radians.
+    #[serde(default)]
+    pub end: std::collections::BTreeMap<String, f64>,
+    /// Grasp centre in the hand frame (as `hands --json` shows it), metres.
+    pub grasp_center: Option<[f64; 3]>,
+    /// Fingers that must touch for the grasp to count (finger names).
+    pub contact_fingers: Option<Vec<String>>,
+}
+
+impl MovementOverride {
+    /// Applies this override to movement `name` of `hand`.
+    fn apply(&self, hand: &mut HandModel, name: &str, source: &str) -> Result<(), FormatError> {
+        let err = |what: String| {
+            FormatError::new(source, format!("the sidecar's [movements.{name}] {what}"))
+        };
+        let existing = hand.movement(name);
+        let mut end =
+            existing.map_or_else(|| vec![0.0; hand.dof_count()], |m| m.end_angles().to_vec());
+        for (joint, angle) in &self.end {
+            let k = hand
+                .dof_names()
+                .iter()
+                .position(|d| d == joint)
+                .ok_or_else(|| {
+                    err(format!(
+                        "names joint '{joint}', which the hand does not have"
+                    ))
+                })?;
+            let [lo, hi] = hand.dof_limits()[k];
+            if !(angle.is_finite() && (lo - 1e-9..=hi + 1e-9).contains(angle)) {
+                return Err(err(format!(
+                    "gives joint '{joint}' the end angle {angle}, outside its limits [{lo}, {hi}] (radians)"
+                )));
+            }
+            end[k] = *angle;
+        }
+        let center = match (self.grasp_center, existing) {
+            (Some(c), _) if c.iter().all(|v| v.is_finite()) => Point3::from(c),
+            (Some(c), _) => {
+                return Err(err(format!("has a grasp_center {c:?} that is not finite")))
+            }
+            (None, Some(m)) => m.grasp_center(),
+            (None, None) => return Err(err("adds a movement without a grasp_center".to_string())),
+        };
+        let fingers = match (&self.contact_fingers, existing) {
+            (Some(names), _) => names
+                .iter()
+                .map(|f| {
+                    hand.fingers().iter().position(|g| &g.name == f).ok_or_else(|| {
+                        err(format!("names finger '{f}' in contact_fingers, which the hand does not have"))
+                    })
+                })
+                .collect::<Result<Vec<usize>, FormatError>>()?,
+            (None, Some(m)) => m.contact_fingers().to_vec(),
+            (None, None) => Vec::new(),
+        };
+        let movement = GraspMovement::to_end_pose(hand, name, end, center, fingers);
+        hand.set_movement(movement);
+        Ok(())
+    }
 }
 
 impl Sidecar {
@@ -244,6 +316,9 @@ pub fn build_in_hand_frame(
     }
     let mut hand = HandModel::from_parts(parts).map_err(err)?;
     prehensile_core::movement_derivation::add_derived_movements(&mut hand);
+    for (name, o) in sidecar.iter().flat_map(|s| &s.movements) {
+        o.apply(&mut hand, name, source)?;
+    }
     Ok(hand)
 }
 

@@ -171,3 +171,63 @@ fn a_sidecar_overrides_fingers_tips_and_close() {
         .source_name
         .ends_with("claw.prehensile.toml"));
 }
+
+#[test]
+fn a_sidecar_changes_a_derived_movement_and_adds_one() {
+    let dir = std::env::temp_dir().join(format!("prehensile-movements-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let urdf = dir.join("claw.urdf");
+    std::fs::copy(urdf_path(), &urdf).unwrap();
+    let derived = load_hand(&urdf).unwrap();
+    let dof = |n: &str| derived.dof_names().iter().position(|d| d == n).unwrap();
+    let power = derived.movement("power").unwrap();
+    let sidecar = dir.join("claw.prehensile.toml");
+    std::fs::write(
+        &sidecar,
+        "[movements.power]\nend = { index_proximal_flexion = 0.5 }\n\
+         [movements.hook]\nend = { index_proximal_flexion = 1.0, middle_proximal_flexion = 1.1 }\n\
+         grasp_center = [0.0, 0.03, 0.1]\ncontact_fingers = [\"index\", \"middle\"]\n",
+    )
+    .unwrap();
+    let hand = load_hand(&urdf).unwrap();
+    // power: the named joint changed, every other joint and the centre as derived.
+    let changed = hand.movement("power").unwrap();
+    assert_eq!(changed.end_angles()[dof("index_proximal_flexion")], 0.5);
+    assert_ne!(power.end_angles()[dof("index_proximal_flexion")], 0.5);
+    for k in (0..hand.dof_count()).filter(|&k| k != dof("index_proximal_flexion")) {
+        assert_eq!(changed.end_angles()[k], power.end_angles()[k], "joint {k}");
+    }
+    assert_eq!(changed.grasp_center(), power.grasp_center());
+    // hook: a new movement from the open pose.
+    let hook = hand.movement("hook").unwrap();
+    assert_eq!(hook.end_angles()[dof("middle_proximal_flexion")], 1.1);
+    assert_eq!(hook.end_angles()[dof("ring_proximal_flexion")], 0.0);
+    assert_eq!(hook.grasp_center().y, 0.03);
+    let names: Vec<&str> = hook
+        .contact_fingers()
+        .iter()
+        .map(|&f| hand.fingers()[f].name.as_str())
+        .collect();
+    assert_eq!(names, ["index", "middle"]);
+    // Mistakes are named.
+    for (text, expected) in [
+        ("[movements.power]\nend = { nojoint = 0.5 }\n", "nojoint"),
+        (
+            "[movements.power]\nend = { index_proximal_flexion = 2.5 }\n",
+            "outside its limits",
+        ),
+        (
+            "[movements.new]\nend = { index_proximal_flexion = 1.0 }\n",
+            "without a grasp_center",
+        ),
+        (
+            "[movements.power]\ncontact_fingers = [\"sixth\"]\n",
+            "sixth",
+        ),
+        ("[movements.power]\nends = {}\n", "ends"),
+    ] {
+        std::fs::write(&sidecar, text).unwrap();
+        let e = load_hand(&urdf).unwrap_err().to_string();
+        assert!(e.contains(expected), "{text}: {e}");
+    }
+}

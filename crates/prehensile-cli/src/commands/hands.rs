@@ -22,7 +22,19 @@ struct HandSummary {
     finger_details: Vec<FingerSummary>,
     /// The palm's side: true when the thumb lies on +x (a left hand).
     left: bool,
+    /// The hand frame as derived (for an imported hand) or authored, seen from the root bone.
+    frame: FrameSummary,
     joints: Vec<JointSummary>,
+}
+
+/// The hand frame's axes in the root bone's frame (for an imported hand, the file's palm body):
+/// what importing derived, and what to check when grasps come out on the wrong side.
+#[derive(serde::Serialize)]
+struct FrameSummary {
+    /// z: along the fingers, from the palm toward the mean fingertip.
+    fingers_along: [f64; 3],
+    /// y: out of the palm, the side the fingers close toward.
+    palm_normal: [f64; 3],
 }
 
 #[derive(serde::Serialize)]
@@ -85,6 +97,13 @@ fn summary(h: &HandModel) -> HandSummary {
             })
             .collect(),
         left: h.is_left(),
+        frame: {
+            let to_root = h.bones()[0].rest.rotation.inverse();
+            FrameSummary {
+                fingers_along: (to_root * prehensile_core::math::Vec3::z()).into(),
+                palm_normal: (to_root * prehensile_core::math::Vec3::y()).into(),
+            }
+        },
         joints: h
             .bones()
             .iter()

@@ -232,6 +232,18 @@ impl HandModel {
         self.movements.iter().find(|m| m.name() == name)
     }
 
+    /// Adds `movement`, replacing the one of the same name if there is one.
+    pub fn set_movement(&mut self, movement: GraspMovement) {
+        match self
+            .movements
+            .iter_mut()
+            .find(|m| m.name() == movement.name())
+        {
+            Some(m) => *m = movement,
+            None => self.movements.push(movement),
+        }
+    }
+
     /// Name of every degree of freedom: the source file's joint names for imported hands,
     /// `bone.flexion`, `bone.abduction` or `bone.x|y|z` for hands written in TOML.
     pub fn dof_names(&self) -> &[String] {
