@@ -49,6 +49,11 @@ const objectGroup = new THREE.Group();
 scene.add(objectGroup);
 const handGroup = new THREE.Group();
 objectGroup.add(handGroup);
+// A skinned hand's bones (glTF hands), posed by the result in the object's frame; its mesh sits
+// at the scene's origin, so that the bones alone place it (as a glTF skin).
+const boneGroup = new THREE.Group();
+objectGroup.add(boneGroup);
+let skinned = null;
 const shoulderBall = new THREE.Mesh(new THREE.SphereGeometry(0.015), new THREE.MeshStandardMaterial({ color: 0xf08c00 }));
 scene.add(shoulderBall);
 const drag = new TransformControls(camera, renderer.domElement);
@@ -99,7 +104,10 @@ function start(movement = $('movement').value) {
   $('movement').replaceChildren(...session.hand_movements().split(',').map((m) => new Option(m, m)));
   $('movement').value = session.movement();
   objectGroup.clear();
-  objectGroup.add(handGroup);
+  objectGroup.add(handGroup, boneGroup);
+  buildSkin(session);
+  // A skinned hand is drawn as its mesh; its capsules on demand.
+  $('capsules').checked = !state.skinned;
   objectGroup.position.set(0, 0, 0);
   const geometry = new THREE.BufferGeometry();
   geometry.setAttribute('position', new THREE.BufferAttribute(state.session.object_positions(), 3));
@@ -127,6 +135,31 @@ function moved() {
     showError(e);
   }
 }
+// How well the skinned mesh follows the hand: the median distance, metres, from its posed
+// vertices to the surface of the nearest of the result's capsules (object frame), over every
+// 7th vertex; null without a skinned hand.
+window.prehensile.skinDistance = () => {
+  if (!skinned?.mesh.visible || !state.result) return null;
+  objectGroup.updateMatrixWorld(true);
+  const toObject = objectGroup.matrixWorld.clone().invert();
+  const geometry = skinned.mesh.geometry;
+  const d = [];
+  for (let i = 0; i < geometry.attributes.position.count; i += 7) {
+    const v = new THREE.Vector3().fromBufferAttribute(geometry.attributes.position, i);
+    skinned.mesh.applyBoneTransform(i, v);
+    v.applyMatrix4(toObject);
+    let best = Infinity;
+    for (const c of state.result.capsules) {
+      const a = new THREE.Vector3(...c.a);
+      const ab = new THREE.Vector3(...c.b).sub(a);
+      const t = Math.min(1, Math.max(0, v.clone().sub(a).dot(ab) / Math.max(ab.lengthSq(), 1e-18)));
+      best = Math.min(best, Math.abs(a.add(ab.multiplyScalar(t)).distanceTo(v) - c.radius));
+    }
+    d.push(best);
+  }
+  d.sort((x, y) => x - y);
+  return d[Math.floor(d.length / 2)];
+};
 // What a drag of the object or of the shoulder ball does, callable from the console and tests.
 window.prehensile.moveObject = (dx, dy, dz) => { objectGroup.position.add(new THREE.Vector3(dx, dy, dz)); moved(); };
 window.prehensile.moveShoulder = (x, y, z) => { shoulderBall.position.set(x, y, z); moved(); };
@@ -141,10 +174,53 @@ function capsuleMesh(c) {
   return mesh;
 }
 
+// The session's skinned mesh, if its hand has one: the core's rest vertices, bone weights and
+// inverse rest frames, bound to one three.js bone per hand bone.
+function buildSkin(session) {
+  if (skinned) {
+    scene.remove(skinned.mesh);
+    skinned.mesh.geometry.dispose();
+    skinned = null;
+  }
+  boneGroup.clear();
+  const positions = session.skin_positions();
+  state.skinned = positions.length > 0;
+  if (!state.skinned) return;
+  const geometry = new THREE.BufferGeometry();
+  geometry.setAttribute('position', new THREE.BufferAttribute(positions, 3));
+  geometry.setAttribute('skinIndex', new THREE.Uint16BufferAttribute(session.skin_joints(), 4));
+  geometry.setAttribute('skinWeight', new THREE.BufferAttribute(session.skin_weights(), 4));
+  geometry.setIndex(new THREE.BufferAttribute(session.skin_indices(), 1));
+  geometry.computeVertexNormals();
+  const inverses = session.rest_inverses();
+  const bones = [];
+  const boneInverses = [];
+  for (let k = 0; k < inverses.length / 16; k++) {
+    bones.push(new THREE.Bone());
+    boneGroup.add(bones[k]);
+    boneInverses.push(new THREE.Matrix4().fromArray(inverses, 16 * k));
+  }
+  const mesh = new THREE.SkinnedMesh(geometry, skin);
+  mesh.frustumCulled = false;
+  mesh.bind(new THREE.Skeleton(bones, boneInverses), new THREE.Matrix4());
+  mesh.visible = false; // until a result poses it
+  scene.add(mesh);
+  skinned = { mesh, bones };
+}
+
 function drawResult(r) {
   handGroup.traverse((o) => o.geometry?.dispose());
   handGroup.clear();
-  if ($('capsules').checked) for (const c of r.capsules) handGroup.add(capsuleMesh(c));
+  // The skin is this session's hand's: a saved result of another hand shows its capsules.
+  const skinFits = skinned && r.bones.length === skinned.bones.length && r.hand === state.session?.hand_name();
+  if (skinned) skinned.mesh.visible = Boolean(skinFits);
+  if (skinFits) {
+    r.bones.forEach((b, k) => {
+      skinned.bones[k].position.set(...b.pose.position);
+      skinned.bones[k].quaternion.set(...b.pose.rotation_xyzw);
+    });
+  }
+  if ($('capsules').checked || !skinFits) for (const c of r.capsules) handGroup.add(capsuleMesh(c));
   const dot = new THREE.SphereGeometry(0.003);
   const red = new THREE.MeshBasicMaterial({ color: 0xd92d20 });
   for (const c of r.contacts) {
@@ -208,8 +284,18 @@ function frame() {
   renderer.render(scene, camera);
 }
 
-$('hand').addEventListener('change', () => { sources.hand = { name: $('hand').value, bytes: null }; start(''); });
-$('object').addEventListener('change', () => { sources.object = { name: $('object').value, bytes: null }; start(); });
+// Files the user gave, by name: they join the hand and object lists, so that the lists always
+// show what is searched and the user can go back to a file.
+const given = { hand: new Map(), object: new Map() };
+function choose(id, source) {
+  if (source.bytes) {
+    given[id].set(source.name, source);
+    if (![...$(id).options].some((o) => o.value === source.name)) $(id).append(new Option(source.name, source.name));
+  }
+  $(id).value = source.name;
+}
+$('hand').addEventListener('change', () => { sources.hand = given.hand.get($('hand').value) ?? { name: $('hand').value, bytes: null }; start(''); });
+$('object').addEventListener('change', () => { sources.object = given.object.get($('object').value) ?? { name: $('object').value, bytes: null }; start(); });
 $('movement').addEventListener('change', () => start());
 $('seed').addEventListener('change', () => start());
 
@@ -243,6 +329,10 @@ async function openFiles(files) {
       if (!openSaved(file.name, bytes)) return;
     } else if (ext === 'glb' && await playIfAnimated(file.name, bytes)) {
       // played
+    } else if (ext === 'glb' && hasSkin(bytes)) {
+      sources.hand = { name: file.name, bytes };
+      handChanged = true;
+      searchInputs = true;
     } else if (MESHES.includes(ext)) {
       sources.object = { name: file.name, bytes };
       searchInputs = true;
@@ -251,11 +341,15 @@ async function openFiles(files) {
       handChanged = true;
       searchInputs = true;
     } else {
-      showError(`${file.name}: not a mesh (${MESHES.join(', ')}), hand file (${HANDS.join(', ')}), saved result or run (.json) or animation (.glb)`);
+      showError(`${file.name}: not a mesh (${MESHES.join(', ')}), hand file (${HANDS.join(', ')}, or a skinned .glb), saved result or run (.json) or animation (.glb)`);
       return;
     }
   }
-  if (searchInputs) start(handChanged ? '' : $('movement').value);
+  if (searchInputs) {
+    choose('hand', sources.hand);
+    choose('object', sources.object);
+    start(handChanged ? '' : $('movement').value);
+  }
 }
 
 // A saved grasp result (`prehensile grasp --out`): shown as it was found, the search stopped; a
@@ -293,6 +387,19 @@ function openSaved(name, bytes) {
   return false;
 }
 
+// Whether a GLB's JSON chunk declares a skin: a rigged hand rather than an object's mesh.
+function hasSkin(bytes) {
+  if (bytes.length < 20) return false;
+  const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
+  const length = view.getUint32(12, true);
+  if (view.getUint32(0, true) !== 0x46546c67 || view.getUint32(16, true) !== 0x4e4f534a || 20 + length > bytes.length) return false;
+  try {
+    return (JSON.parse(new TextDecoder().decode(bytes.subarray(20, 20 + length))).skins ?? []).length > 0;
+  } catch {
+    return false;
+  }
+}
+
 // Plays a GLB that carries an animation (what `grasp --glb` and `simulate --glb` write) in place
 // of the live search; false for a GLB without one (a mesh).
 async function playIfAnimated(name, bytes) {
@@ -306,6 +413,7 @@ async function playIfAnimated(name, bytes) {
   stopPlayback();
   state.status = 'playing';
   objectGroup.visible = false;
+  if (skinned) skinned.mesh.visible = false;
   drag.detach();
   const mixer = new THREE.AnimationMixer(gltf.scene);
   for (const clip of gltf.animations) mixer.clipAction(clip).play();

@@ -77,6 +77,7 @@ try {
     ['1 3 2', '1 4 3', '5 6 7', '5 7 8', '1 2 6', '1 6 5', '2 3 7', '2 7 6', '3 4 8', '3 8 7', '4 1 5', '4 5 8'].map((f) => `f ${f}`).join('\n');
   await page.setInputFiles('#file', { name: 'cube.obj', mimeType: 'text/plain', buffer: Buffer.from(cube) });
   await page.waitForFunction(() => window.prehensile.state.result?.object === 'cube.obj' && window.prehensile.state.result.valid, null, { timeout: 120_000 });
+  assert.strictEqual(await page.evaluate(() => document.getElementById('object').value), 'cube.obj', 'the list shows the file searched');
   console.log('a dropped cube is grasped');
   // An MJCF hand with its include files, dropped together.
   const shadowDir = new URL('../../assets/hands/shadow_hand/', import.meta.url).pathname;
@@ -86,6 +87,31 @@ try {
   assert.ok(shadow.joints.some((j) => j.name === 'robot0:FFJ2'), 'the Shadow hand with its includes');
   console.log(`an MJCF hand with its includes is loaded: ${shadow.hand}, ${shadow.joints.length} joints`);
   await page.screenshot({ path: `${out}/viewer-own-file.png` });
+
+  // The skinned WebXR hand, from the list: drawn as its mesh, skinned by the result's bones
+  // (its capsules then only on demand); and a skinned hand dropped as a .glb file.
+  const skinnedHand = async (hand) => {
+    await page.waitForFunction((h) => window.prehensile.state.result?.hand === h && window.prehensile.state.result.valid, hand, { timeout: 120_000 });
+    return page.evaluate(() => ({
+      skinned: window.prehensile.state.skinned,
+      capsules: document.getElementById('capsules').checked,
+      distance: window.prehensile.skinDistance(),
+    }));
+  };
+  await page.selectOption('#hand', 'webxr-right');
+  const webxr = await skinnedHand('webxr-right');
+  assert.ok(webxr.skinned && !webxr.capsules, 'the WebXR hand is drawn as its skinned mesh');
+  // The bones pose the skin where the hand is: its vertices lie near the capsules' surfaces
+  // (the radii are the 25th percentile of the skin's distances to each bone).
+  assert.ok(webxr.distance < 0.006, `the skin is ${webxr.distance} m from the capsules`);
+  await page.screenshot({ path: `${out}/viewer-skinned-hand.png` });
+  assert.ok((await colours()) > 50);
+  console.log(`the skinned WebXR hand grasps; its posed skin is a median ${(webxr.distance * 1000).toFixed(1)} mm from the capsules`);
+  const webxrDir = new URL('../../assets/hands/webxr_generic_hand/', import.meta.url).pathname;
+  await page.setInputFiles('#file', webxrDir + 'left.glb');
+  const dropped = await skinnedHand('left');
+  assert.ok(dropped.skinned && dropped.distance < 0.006, `a dropped skinned hand: ${JSON.stringify(dropped)}`);
+  console.log('a skinned hand dropped as a .glb is read and drawn skinned');
 
   // Saved work from the CLI: a grasp result is shown as found (the search stopped), its
   // animation played, and a simulation's animation played with its report's state timeline.

@@ -56,21 +56,30 @@ pub fn load_hand_gltf(path: &Path) -> Result<HandModel, FormatError> {
     load_hand_gltf_skinned(path).map(|(hand, _)| hand)
 }
 
-/// Reads a skinned glTF/GLB hand and its skinned mesh.
+/// Reads a skinned glTF/GLB hand and its skinned mesh, with the sidecar beside it.
 pub fn load_hand_gltf_skinned(path: &Path) -> Result<(HandModel, SkinnedMesh), FormatError> {
     let name = path.display().to_string();
     let sidecar = crate::Sidecar::beside(path)?;
-    if sidecar
-        .as_ref()
-        .is_some_and(|s| !s.tips.is_empty() || !s.close.is_empty() || !s.movements.is_empty())
+    let bytes = crate::read_input(path, crate::MAX_MESH_BYTES)?;
+    parse_hand_gltf_skinned(&bytes, &name, sidecar.as_ref())
+}
+
+/// A skinned glTF/GLB hand and its skinned mesh from the file's bytes; `name` names it in errors
+/// and, by its stem, names the hand.
+pub fn parse_hand_gltf_skinned(
+    bytes: &[u8],
+    name: &str,
+    sidecar: Option<&crate::Sidecar>,
+) -> Result<(HandModel, SkinnedMesh), FormatError> {
+    let name = name.to_string();
+    if sidecar.is_some_and(|s| !s.tips.is_empty() || !s.close.is_empty() || !s.movements.is_empty())
     {
         return Err(FormatError::new(
             &name,
             "a skinned hand's sidecar may only name fingers ([fingers]); fingertips come from joints named …tip or …end, movements from the human hand",
         ));
     }
-    let bytes = crate::read_input(path, crate::MAX_MESH_BYTES)?;
-    let gltf = crate::gltf_accessors::parse_gltf(&bytes).map_err(|e| FormatError::new(&name, e))?;
+    let gltf = crate::gltf_accessors::parse_gltf(bytes).map_err(|e| FormatError::new(&name, e))?;
     let blob = gltf.blob.clone().unwrap_or_default();
     let buffer = |b: gltf::Buffer| (b.index() == 0 && !blob.is_empty()).then_some(&blob[..]);
     let skin = gltf.document.skins().next().ok_or_else(|| {
@@ -267,7 +276,6 @@ pub fn load_hand_gltf_skinned(path: &Path) -> Result<(HandModel, SkinnedMesh), F
             chain.push(next);
         }
         let finger = sidecar
-            .as_ref()
             .and_then(|s| s.fingers.get(&names[c]).map(String::as_str))
             .or_else(|| chain.iter().find_map(|&i| finger_name(&names[i])))
             .ok_or_else(|| FormatError::new(&name, format!("cannot tell which finger joint '{}' belongs to; name it thumb, index, middle, ring or little", names[c])))?;
@@ -385,7 +393,7 @@ pub fn load_hand_gltf_skinned(path: &Path) -> Result<(HandModel, SkinnedMesh), F
         })
         .collect();
     let desc = HandDescription {
-        name: path
+        name: Path::new(&name)
             .file_stem()
             .map_or("gltf hand".into(), |s| s.to_string_lossy().into_owned()),
         description: format!(

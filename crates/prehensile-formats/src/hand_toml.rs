@@ -65,10 +65,14 @@ pub fn load_hand(path: &Path) -> Result<HandModel, FormatError> {
     parse_hand_toml(&text, &name)
 }
 
-/// A hand from one file's bytes (`.toml`, `.urdf`, or MJCF `.xml` without includes), by `name`'s
-/// extension: for hands that do not come from a path (a browser's dropped file). Files that
-/// need other files (MJCF includes, sidecars, skinned glTF) need [`load_hand`].
+/// A hand from one file's bytes (`.toml`, `.urdf`, MJCF `.xml` without includes, or a skinned
+/// `.glb`), by `name`'s extension: for hands that do not come from a path (a browser's dropped
+/// file). Files that need other files (MJCF includes, sidecars) need [`load_hand`] or
+/// [`crate::parse_hand_mjcf_files`].
 pub fn parse_hand(bytes: &[u8], name: &str) -> Result<HandModel, FormatError> {
+    if name.to_ascii_lowercase().ends_with(".glb") {
+        return crate::parse_hand_gltf_skinned(bytes, name, None).map(|(hand, _)| hand);
+    }
     let text = std::str::from_utf8(bytes)
         .map_err(|e| FormatError::new(name, format!("a hand file must be text: {e}")))?;
     let ext = Path::new(name)
@@ -82,7 +86,7 @@ pub fn parse_hand(bytes: &[u8], name: &str) -> Result<HandModel, FormatError> {
         other => Err(FormatError::new(
             name,
             format!(
-                "unknown hand file extension '{}'; give .toml, .urdf or .xml (MJCF) here",
+                "unknown hand file extension '{}'; give .toml, .urdf, .xml (MJCF) or .glb (a skinned hand) here",
                 other.map_or("(none)".to_string(), |e| format!(".{e}"))
             ),
         )),

@@ -10,19 +10,38 @@
 use std::sync::Arc;
 use std::time::Duration;
 
-use prehensile_core::math::Point3;
+use prehensile_core::math::{Point3, Transform};
 use prehensile_core::search::{default_shoulder, PlannerStatus, SearchParams, SharedPlanner};
 use prehensile_core::{HandModel, ObjectModel};
+use prehensile_formats::SkinnedMesh;
 use wasm_bindgen::prelude::*;
 
 fn js(e: impl std::fmt::Display) -> JsError {
     JsError::new(&e.to_string())
 }
 
-/// The built-in hand names, comma-separated.
+/// The skinned WebXR hands the page offers beside the library's built-in hands (the files are
+/// in `assets/hands/webxr_generic_hand`, compiled in: a page has no folder to read them from).
+const WEBXR_HANDS: [(&str, &[u8]); 2] = [
+    (
+        "webxr-right",
+        include_bytes!("../../../assets/hands/webxr_generic_hand/right.glb"),
+    ),
+    (
+        "webxr-left",
+        include_bytes!("../../../assets/hands/webxr_generic_hand/left.glb"),
+    ),
+];
+
+/// The built-in hand names, comma-separated: the library's, then the skinned WebXR hands.
 #[wasm_bindgen]
 pub fn builtin_hands() -> String {
-    prehensile_formats::BUILTIN_HANDS.join(",")
+    let webxr = WEBXR_HANDS.iter().map(|(name, _)| *name);
+    prehensile_formats::BUILTIN_HANDS
+        .into_iter()
+        .chain(webxr)
+        .collect::<Vec<_>>()
+        .join(",")
 }
 
 /// The built-in object names, comma-separated.
@@ -37,6 +56,8 @@ pub struct Session {
     planner: SharedPlanner,
     movement: String,
     seed: u64,
+    /// A skinned hand's mesh (glTF hands), drawn posed by the result's bones.
+    skin: Option<SkinnedMesh>,
 }
 
 fn object_named(name: &str) -> Result<ObjectModel, JsError> {
@@ -49,13 +70,21 @@ fn object_named(name: &str) -> Result<ObjectModel, JsError> {
     ObjectModel::new(name, mesh, None).map_err(js)
 }
 
-fn hand_named(name: &str) -> Result<HandModel, JsError> {
-    prehensile_formats::builtin_hand(name).ok_or_else(|| {
+/// A built-in hand by name, with its skinned mesh if it has one.
+fn hand_named(name: &str) -> Result<(HandModel, Option<SkinnedMesh>), JsError> {
+    if let Some((_, bytes)) = WEBXR_HANDS.iter().find(|(n, _)| *n == name) {
+        let (hand, skin) =
+            prehensile_formats::parse_hand_gltf_skinned(bytes, &format!("{name}.glb"), None)
+                .map_err(js)?;
+        return Ok((hand, Some(skin)));
+    }
+    let hand = prehensile_formats::builtin_hand(name).ok_or_else(|| {
         js(format!(
             "'{name}' is not a built-in hand ({})",
             builtin_hands()
         ))
-    })
+    })?;
+    Ok((hand, None))
 }
 
 #[wasm_bindgen]
@@ -65,8 +94,10 @@ impl Session {
     /// shoulder.
     #[wasm_bindgen(constructor)]
     pub fn new(hand: &str, object: &str, movement: &str, seed: u64) -> Result<Session, JsError> {
+        let (hand, skin) = hand_named(hand)?;
         Self::start(
-            Arc::new(hand_named(hand)?),
+            Arc::new(hand),
+            skin,
             Arc::new(object_named(object)?),
             movement,
             seed,
@@ -74,7 +105,8 @@ impl Session {
     }
 
     /// A session from what the user chose or dropped: a built-in hand by name, or a hand file's
-    /// bytes (`hand_bytes` non-empty; `.toml`, `.urdf`, MJCF `.xml` named by `hand`); likewise
+    /// bytes (`hand_bytes` non-empty; `.toml`, `.urdf`, MJCF `.xml`, skinned `.glb` named by
+    /// `hand`); likewise
     /// the object (`.obj`, `.stl`, `.ply`, `.glb`). An MJCF hand's `<include>` files, dropped
     /// with it, come as `include_names` (one per line) and their bytes one after another in
     /// `include_bytes`, `include_lengths` long each. Errors carry the CLI's messages.
@@ -90,10 +122,17 @@ impl Session {
         movement: &str,
         seed: u64,
     ) -> Result<Session, JsError> {
-        let hand = if hand_bytes.is_empty() {
+        let (hand, skin) = if hand_bytes.is_empty() {
             hand_named(hand)?
+        } else if hand.to_ascii_lowercase().ends_with(".glb") {
+            let (hand, skin) =
+                prehensile_formats::parse_hand_gltf_skinned(hand_bytes, hand, None).map_err(js)?;
+            (hand, Some(skin))
         } else if include_lengths.is_empty() {
-            prehensile_formats::parse_hand(hand_bytes, hand).map_err(js)?
+            (
+                prehensile_formats::parse_hand(hand_bytes, hand).map_err(js)?,
+                None,
+            )
         } else {
             let names: Vec<&str> = include_names.lines().collect();
             if names.len() != include_lengths.len()
@@ -113,7 +152,10 @@ impl Session {
                 ));
                 at += len as usize;
             }
-            prehensile_formats::parse_hand_mjcf_files(hand, &files).map_err(js)?
+            (
+                prehensile_formats::parse_hand_mjcf_files(hand, &files).map_err(js)?,
+                None,
+            )
         };
         let object = if object_bytes.is_empty() {
             object_named(object)?
@@ -121,7 +163,7 @@ impl Session {
             let mesh = prehensile_formats::parse_mesh(object_bytes, object, 1.0).map_err(js)?;
             ObjectModel::new(object, mesh, None).map_err(|e| js(format!("{object}: {e}")))?
         };
-        Self::start(Arc::new(hand), Arc::new(object), movement, seed)
+        Self::start(Arc::new(hand), skin, Arc::new(object), movement, seed)
     }
 
     /// The movements of the session's hand, comma-separated.
@@ -137,6 +179,7 @@ impl Session {
 
     fn start(
         hand: Arc<HandModel>,
+        skin: Option<SkinnedMesh>,
         object: Arc<ObjectModel>,
         movement: &str,
         seed: u64,
@@ -161,6 +204,7 @@ impl Session {
             planner,
             movement: movement.to_string(),
             seed,
+            skin,
         })
     }
 
@@ -237,6 +281,70 @@ impl Session {
             .flatten()
             .copied()
             .collect()
+    }
+
+    /// A skinned hand's vertices in the hand frame at rest, flat x, y, z (empty: the hand has
+    /// no skin and is drawn as capsules). Pose it with [`Session::rest_inverses`] and the
+    /// result's bone poses (linear blend skinning, as a glTF skin).
+    pub fn skin_positions(&self) -> Vec<f32> {
+        self.skin
+            .iter()
+            .flat_map(|s| &s.positions)
+            .flat_map(|p| [p.x as f32, p.y as f32, p.z as f32])
+            .collect()
+    }
+
+    /// The skin's triangles, flat.
+    pub fn skin_indices(&self) -> Vec<u32> {
+        self.skin
+            .iter()
+            .flat_map(|s| &s.triangles)
+            .flatten()
+            .copied()
+            .collect()
+    }
+
+    /// Up to four bone indices per skin vertex (the hand's bone order), flat.
+    pub fn skin_joints(&self) -> Vec<u16> {
+        self.skin
+            .iter()
+            .flat_map(|s| &s.joints)
+            .flatten()
+            .copied()
+            .collect()
+    }
+
+    /// Their weights, flat.
+    pub fn skin_weights(&self) -> Vec<f32> {
+        self.skin
+            .iter()
+            .flat_map(|s| &s.weights)
+            .flatten()
+            .copied()
+            .collect()
+    }
+
+    /// Per bone, the inverse of its rest frame in the hand frame, 16 numbers column-major (the
+    /// skin's inverse bind matrices).
+    pub fn rest_inverses(&self) -> Vec<f32> {
+        let hand = self.planner.hand();
+        let identity = vec![Default::default(); hand.bones().len()];
+        hand.pose_transforms(&Transform::identity(), &identity)
+            .iter()
+            .flat_map(|t| {
+                t.inverse()
+                    .to_homogeneous()
+                    .as_slice()
+                    .iter()
+                    .map(|v| *v as f32)
+                    .collect::<Vec<_>>()
+            })
+            .collect()
+    }
+
+    /// The hand's name (a result's `hand`).
+    pub fn hand_name(&self) -> String {
+        self.planner.hand().name().to_string()
     }
 
     /// The movement searched.
