@@ -13,5 +13,6 @@ cargo build --release --target wasm32-unknown-unknown -p prehensile-wasm
 wasm-bindgen --target web --out-dir viewer/pkg \
   target/wasm32-unknown-unknown/release/prehensile_wasm.wasm
 (cd viewer && npm ci --no-audit --no-fund --silent && npm run bundle --silent)
-cp viewer/index.html viewer/pkg/prehensile_wasm_bg.wasm viewer/dist/
+rm -f viewer/dist/prehensile_wasm_bg.wasm # inlined in main.js since session 10
+cp viewer/index.html viewer/dist/
 echo "viewer built: serve viewer/dist (e.g. python3 -m http.server -d viewer/dist) and open it"

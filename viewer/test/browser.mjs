@@ -153,6 +153,16 @@ try {
   } finally {
     withFiles.kill();
   }
+  // The demo folder: `prehensile demo` copies the built page in, and it runs from file://.
+  execFileSync(cli, ['demo', '--out', `${out}/demo`, '--viewer', dist], { stdio: 'ignore' });
+  assert.match(fs.readFileSync(`${out}/demo/index.html`, 'utf8'), /href="viewer\/index.html"/, 'the gallery links the page');
+  const local = await browser.newPage({ viewport: { width: 1100, height: 700 } });
+  local.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
+  local.on('pageerror', (e) => errors.push(String(e)));
+  await local.goto(new URL(`file://${fs.realpathSync(out)}/demo/viewer/index.html`).href);
+  await local.waitForFunction(() => window.prehensile?.state?.result?.valid === true, null, { timeout: 120_000 });
+  await local.screenshot({ path: `${out}/viewer-from-demo-folder.png` });
+  console.log('the page runs from the demo folder (file://) and finds a grasp');
   assert.deepStrictEqual(errors, [], 'console errors');
 } finally {
   await browser.close();

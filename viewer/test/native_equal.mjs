@@ -24,6 +24,9 @@ for (const [hand, object, movement, seed] of cases) {
   assert.ok(run.status === 0 || run.status === 1, `${cli}: ${run.stderr}`);
   const native = JSON.parse(run.stdout.toString());
   const nativeMs = native.stats.seconds * 1e3;
+  // A seven-pose step: each search's own clock over its steps (the initial approximation
+  // included, a small share over hundreds of steps).
+  const stepMs = [wasm, native].map((r) => (r.stats.seconds * 1e3) / Math.max(1, r.stats.steps));
   delete wasm.stats.seconds;
   delete native.stats.seconds;
   const label = `${hand} ${object} ${movement} seed ${seed}`;
@@ -44,5 +47,5 @@ for (const [hand, object, movement, seed] of cases) {
     }
   };
   same(wasm, native, 'result');
-  console.log(`${hand} on ${object} (${movement}, seed ${seed}): wasm and native agree (${wasm.valid ? 'valid' : 'not valid'}, ${wasm.stats.steps} steps, largest relative difference ${worst.toExponential(1)}); search ${wasmMs.toFixed(1)} ms in wasm, ${nativeMs.toFixed(1)} ms native (${(wasmMs / nativeMs).toFixed(2)}x)`);
+  console.log(`${hand} on ${object} (${movement}, seed ${seed}): wasm and native agree (${wasm.valid ? 'valid' : 'not valid'}, ${wasm.stats.steps} steps, largest relative difference ${worst.toExponential(1)}); search ${wasmMs.toFixed(1)} ms in wasm, ${nativeMs.toFixed(1)} ms native (${(wasmMs / nativeMs).toFixed(2)}x); per step ${stepMs[0].toFixed(3)} ms in wasm, ${stepMs[1].toFixed(3)} ms native (${(stepMs[0] / stepMs[1]).toFixed(2)}x)`);
 }

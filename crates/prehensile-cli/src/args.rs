@@ -304,6 +304,11 @@ pub struct DemoArgs {
     /// Seed of the random search angles.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// The built browser viewer (`bash tools/viewer/build.sh`), copied into the demo folder as
+    /// `viewer/` so that its page opens from the folder itself; left out, with a note in the
+    /// gallery, when it is not built.
+    #[arg(long, default_value = "viewer/dist")]
+    pub viewer: PathBuf,
 }
 
 /// Parses `X,Y,Z`.

@@ -12,6 +12,21 @@ use crate::commands::grasp::{glb_bytes, search};
 use crate::{picture, sources, CliError};
 use prehensile_core::search::{default_shoulder, GraspRequest, SearchParams, AUTO_MOVEMENT};
 
+/// Copies the built viewer's page (`index.html`, and `main.js` with the core inlined) into
+/// `out/viewer`; false when `viewer` holds no built viewer.
+fn copy_viewer(viewer: &std::path::Path, out: &std::path::Path) -> Result<bool, CliError> {
+    let files = ["index.html", "main.js"];
+    if !files.iter().all(|f| viewer.join(f).is_file()) {
+        return Ok(false);
+    }
+    let to = out.join("viewer");
+    std::fs::create_dir_all(&to).map_err(CliError::file("create", &to))?;
+    for f in files {
+        std::fs::copy(viewer.join(f), to.join(f)).map_err(CliError::file("write", &to.join(f)))?;
+    }
+    Ok(true)
+}
+
 /// Runs the demo and writes `<hand>-<object>.json`, `.svg` and an `index.html` gallery.
 pub fn run(args: &DemoArgs) -> Result<i32, CliError> {
     std::fs::create_dir_all(&args.out).map_err(crate::CliError::file("create", &args.out))?;
@@ -32,10 +47,17 @@ pub fn run(args: &DemoArgs) -> Result<i32, CliError> {
         "hand", "object", "movement", "quality", "valid", "fingers touching", "time ms"
     )];
     let mut gallery = String::from("<!doctype html><meta charset=utf-8><title>Prehensile demo</title><style>body{font-family:sans-serif;background:#fafafa}figure{display:inline-block;margin:8px;background:#fff;border:1px solid #ddd}figcaption{padding:4px 8px;font-size:13px}</style><h1>Prehensile demo</h1>\n");
-    let _ = writeln!(
-        gallery,
-        "<p>In 3D, live: <code>bash tools/viewer/build.sh &amp;&amp; prehensile view</code> serves the browser viewer on http://127.0.0.1:8000/ (drag the object and the hand re-grasps). Each result below opens in it with the command under its picture.</p>"
-    );
+    if copy_viewer(&args.viewer, &args.out)? {
+        let _ = writeln!(
+            gallery,
+            "<p>In 3D, live: <a href=\"viewer/index.html\">the browser viewer</a> (opens from this folder; drag the object and the hand re-grasps, drop your own meshes and hands on it). Each result below opens in it with the command under its picture, or drop its .json on the page.</p>"
+        );
+    } else {
+        let _ = writeln!(
+            gallery,
+            "<p>In 3D, live: <code>bash tools/viewer/build.sh &amp;&amp; prehensile view</code> serves the browser viewer on http://127.0.0.1:8000/ (drag the object and the hand re-grasps); built before the demo, it is copied into this folder too. Each result below opens in it with the command under its picture.</p>"
+        );
+    }
     let mut invalid = 0;
     for hand in &hands {
         for object in &objects {
