@@ -16,6 +16,7 @@ use crate::controller::{passive_torque, Gains, Setpoints};
 use crate::dynamics_model::DynamicsModel;
 use crate::inverse_dynamics::{bias_torques, rnea, BaseMotion, DynamicsError};
 use crate::outboard_inertia::outboard_inertia_into;
+use crate::setpoint::{Blend, Setpoint};
 
 /// Fits `positions` and `velocities` of `setpoints` (its neutral pose and limits are used as
 /// given) to frames `q` sampled every `dt` seconds, with the blend weights of each frame and the
@@ -24,7 +25,7 @@ pub fn fit_active(
     hand: &HandModel,
     q: &[Vec<f64>],
     dt: f64,
-    blends: &[[f64; 6]],
+    blends: &[Blend],
     base: &BaseMotion,
     gains: &Gains,
     setpoints: &mut Setpoints,
@@ -52,9 +53,9 @@ pub fn fit_active(
         let compensation = bias_torques(&model, &mut data, &q[t], base)?.to_vec();
         let inertia = outboard_inertia_into(&model, &mut data, &q[t])?;
         passive_torque(inertia, &q[t], &qd, setpoints, gains, &mut passive);
-        for j in 0..6 {
-            a[(t - 1, j)] = gains.k_s * blends[t][j];
-            a[(t - 1, 6 + j)] = gains.k_d * blends[t][j];
+        for (s, b) in blends[t].iter() {
+            a[(t - 1, s.index())] = gains.k_s * b;
+            a[(t - 1, 6 + s.index())] = gains.k_d * b;
         }
         let driving: Vec<f64> = (0..n)
             .map(|k| tau[k] - compensation[k] - passive[k])
@@ -68,10 +69,11 @@ pub fn fit_active(
     let x = svd
         .solve(&b, 1e-12)
         .map_err(|_| DynamicsError::NonFinite("least-squares system"))?;
-    for j in 0..6 {
+    for s in Setpoint::ALL {
+        let j = s.index();
         for k in 0..n {
-            setpoints.positions[j][k] = x[(j, k)];
-            setpoints.velocities[j][k] = x[(6 + j, k)];
+            setpoints.positions[s][k] = x[(j, k)];
+            setpoints.velocities[s][k] = x[(6 + j, k)];
         }
     }
     Ok(())

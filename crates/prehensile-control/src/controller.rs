@@ -12,6 +12,7 @@ use prehensile_core::math::Vec3;
 use crate::dynamics_model::{DynamicsData, DynamicsModel};
 use crate::inverse_dynamics::{bias_torques, BaseMotion, DynamicsError};
 use crate::outboard_inertia::{outboard_inertia_into, OutboardInertia};
+use crate::setpoint::{Blend, PerSetpoint, Setpoint};
 
 /// Gains and distances (Pollard & Zordan, Table 1).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -101,33 +102,34 @@ impl GraspState {
     }
 
     /// Blend weights B over the six setpoints (Fig. 3, Eq. 10–12, 15–16).
-    pub fn blend(self, distance: f64, alpha: f64, g: &Gains) -> [f64; 6] {
+    pub fn blend(self, distance: f64, alpha: f64, g: &Gains) -> Blend {
         let ramp = |from: f64, to: f64| ((from - distance) / (from - to)).clamp(0.0, 1.0);
-        let mut b = [0.0; 6];
+        use Setpoint::*;
+        let mut b = Blend::default();
         match self {
-            GraspState::Neutral => b[0] = 1.0,
+            GraspState::Neutral => b[Neutral] = 1.0,
             GraspState::Opening => {
-                b[1] = ramp(g.d2, g.d1);
-                b[0] = 1.0 - b[1];
+                b[Open] = ramp(g.d2, g.d1);
+                b[Neutral] = 1.0 - b[Open];
             }
             GraspState::Closing => {
-                b[2] = ramp(g.d1, g.d0);
-                b[1] = 1.0 - b[2];
+                b[Grip] = ramp(g.d1, g.d0);
+                b[Open] = 1.0 - b[Grip];
             }
             GraspState::Gripping => {
-                b[2] = 1.0 + alpha;
-                b[1] = -alpha;
+                b[Grip] = 1.0 + alpha;
+                b[Open] = -alpha;
             }
-            GraspState::Releasing => b[3] = 1.0,
+            GraspState::Releasing => b[Release] = 1.0,
             GraspState::OpeningAgain => {
-                b[3] = ramp(g.d1, g.d0);
-                b[4] = 1.0 - b[3];
+                b[Release] = ramp(g.d1, g.d0);
+                b[OpenAgain] = 1.0 - b[Release];
             }
             GraspState::Relaxing => {
-                b[4] = ramp(g.d2, g.d1);
-                b[5] = 1.0 - b[4];
+                b[OpenAgain] = ramp(g.d2, g.d1);
+                b[Relax] = 1.0 - b[OpenAgain];
             }
-            GraspState::NeutralAgain => b[5] = 1.0,
+            GraspState::NeutralAgain => b[Relax] = 1.0,
         }
         b
     }
@@ -138,9 +140,9 @@ impl GraspState {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Setpoints {
     /// θ_0 … θ_5.
-    pub positions: [Vec<f64>; 6],
+    pub positions: PerSetpoint<Vec<f64>>,
     /// θ̇_0 … θ̇_5.
-    pub velocities: [Vec<f64>; 6],
+    pub velocities: PerSetpoint<Vec<f64>>,
     /// θ_NEUTRAL.
     pub neutral: Vec<f64>,
     /// θ_LIMIT per degree of freedom, `[min, max]`.
@@ -161,9 +163,9 @@ fn passive_unit(k: usize, q: &[f64], qd: &[f64], s: &Setpoints, g: &Gains) -> f6
 }
 
 /// The active law's bracketed term of degree of freedom `k`, per unit inertia.
-fn active_unit(k: usize, q: &[f64], qd: &[f64], s: &Setpoints, blend: &[f64; 6], g: &Gains) -> f64 {
-    let target: f64 = (0..6).map(|j| blend[j] * s.positions[j][k]).sum();
-    let rate: f64 = (0..6).map(|j| blend[j] * s.velocities[j][k]).sum();
+fn active_unit(k: usize, q: &[f64], qd: &[f64], s: &Setpoints, blend: &Blend, g: &Gains) -> f64 {
+    let target = blend.mix(&s.positions, k);
+    let rate = blend.mix(&s.velocities, k);
     g.k_s * (target - q[k]) + g.k_d * (rate - qd[k])
 }
 
@@ -189,7 +191,7 @@ pub fn active_torque(
     q: &[f64],
     qd: &[f64],
     s: &Setpoints,
-    blend: &[f64; 6],
+    blend: &Blend,
     g: &Gains,
     out: &mut [f64],
 ) {
@@ -229,7 +231,7 @@ pub fn joint_springs(
     inertia: &OutboardInertia,
     q: &[f64],
     s: &Setpoints,
-    blend: &[f64; 6],
+    blend: &Blend,
     g: &Gains,
     active: bool,
     out: &mut [JointSpring],
@@ -253,9 +255,9 @@ pub fn joint_springs(
         }
         if active {
             stiffness += g.k_s;
-            pull += g.k_s * (0..6).map(|j| blend[j] * s.positions[j][k]).sum::<f64>();
+            pull += g.k_s * blend.mix(&s.positions, k);
             damping += g.k_d;
-            rate += g.k_d * (0..6).map(|j| blend[j] * s.velocities[j][k]).sum::<f64>();
+            rate += g.k_d * blend.mix(&s.velocities, k);
         }
         *out = JointSpring {
             stiffness: inertia.diagonal[k] * stiffness,
@@ -308,7 +310,7 @@ pub struct GraspController {
     pub active: bool,
     /// A setpoint chosen by hand (Fig. 7's interactive open/close), overriding the state
     /// machine's blend while set; the grip setpoint (2) is extrapolated by α as in GRIPPING.
-    pub manual_setpoint: Option<usize>,
+    pub manual_setpoint: Option<Setpoint>,
     /// Keep the hand open (B\[1\] = 1) through CLOSING, as the paper's grasps did (§7) "to keep
     /// the hand from contacting the object too quickly"; it closes on GRIPPING.
     pub open_while_closing: bool,
@@ -329,14 +331,15 @@ impl GraspController {
     }
 
     /// Advances the state machine for the hand–object `distance` and returns the blend weights.
-    pub fn advance(&mut self, distance: f64, release: bool) -> [f64; 6] {
+    pub fn advance(&mut self, distance: f64, release: bool) -> Blend {
         self.state = self.state.next(distance, release, &self.gains);
-        let only = |j: usize| std::array::from_fn(|i| if i == j.min(5) { 1.0 } else { 0.0 });
         match self.manual_setpoint {
             // The grip setpoint carries the grip strength, as in GRIPPING.
-            Some(2) => GraspState::Gripping.blend(distance, self.alpha, &self.gains),
-            Some(j) => only(j),
-            None if self.open_while_closing && self.state == GraspState::Closing => only(1),
+            Some(Setpoint::Grip) => GraspState::Gripping.blend(distance, self.alpha, &self.gains),
+            Some(s) => Blend::only(s),
+            None if self.open_while_closing && self.state == GraspState::Closing => {
+                Blend::only(Setpoint::Open)
+            }
             None => self.state.blend(distance, self.alpha, &self.gains),
         }
     }

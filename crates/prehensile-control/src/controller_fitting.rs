@@ -9,6 +9,7 @@ use crate::controller::{Gains, GraspController, Setpoints};
 use crate::example_motion::Motion;
 use crate::inverse_dynamics::{BaseMotion, DynamicsError};
 use crate::passive_fitting::fit_passive;
+use crate::setpoint::{Blend, PerSetpoint, Setpoint};
 
 /// Schema name of controller files.
 pub const CONTROLLER_SCHEMA: &str = "prehensile.controller/1";
@@ -37,15 +38,15 @@ pub fn fit_controller(
     let mut controller = GraspController::new(
         gains,
         Setpoints {
-            positions: std::array::from_fn(|_| vec![0.0; n]),
-            velocities: std::array::from_fn(|_| vec![0.0; n]),
+            positions: PerSetpoint::from_fn(|_| vec![0.0; n]),
+            velocities: PerSetpoint::from_fn(|_| vec![0.0; n]),
             neutral,
             limits,
         },
     );
     controller.open_while_closing = open_while_closing;
     let release = motion.release();
-    let blends: Vec<[f64; 6]> = motion
+    let blends: Vec<Blend> = motion
         .distances
         .iter()
         .enumerate()
@@ -132,11 +133,12 @@ impl ControllerFile {
             open_while_closing: c.open_while_closing,
             neutral: c.setpoints.neutral.clone(),
             limits: c.setpoints.limits.clone(),
-            setpoints: (0..6)
-                .map(|j| SetpointRecord {
-                    name: SETPOINT_NAMES[j].into(),
-                    positions: c.setpoints.positions[j].clone(),
-                    velocities: c.setpoints.velocities[j].clone(),
+            setpoints: Setpoint::ALL
+                .iter()
+                .map(|&s| SetpointRecord {
+                    name: s.name().into(),
+                    positions: c.setpoints.positions[s].clone(),
+                    velocities: c.setpoints.velocities[s].clone(),
                 })
                 .collect(),
         }
@@ -217,8 +219,8 @@ impl ControllerFile {
                 d2,
             },
             Setpoints {
-                positions: std::array::from_fn(|j| self.setpoints[j].positions.clone()),
-                velocities: std::array::from_fn(|j| self.setpoints[j].velocities.clone()),
+                positions: PerSetpoint::from_fn(|s| self.setpoints[s.index()].positions.clone()),
+                velocities: PerSetpoint::from_fn(|s| self.setpoints[s.index()].velocities.clone()),
                 neutral: self.neutral.clone(),
                 limits: self.limits.clone(),
             },

@@ -21,6 +21,7 @@ mod inverse_dynamics;
 mod mass_matrix;
 mod outboard_inertia;
 mod passive_fitting;
+mod setpoint;
 
 pub use active_fitting::fit_active;
 pub use controller::{
@@ -40,3 +41,4 @@ pub use inverse_dynamics::{
 pub use mass_matrix::{crba, mass_matrix};
 pub use outboard_inertia::{outboard_inertia, outboard_inertia_into, OutboardInertia};
 pub use passive_fitting::fit_passive;
+pub use setpoint::{Blend, PerSetpoint, Setpoint};

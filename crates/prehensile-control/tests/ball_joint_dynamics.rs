@@ -10,7 +10,7 @@ mod common;
 use nalgebra::DVector;
 use prehensile_control::{
     ball_joint_coupling, gravity_torques, inverse_dynamics, mass_matrix, outboard_inertia,
-    JointSpring,
+    JointSpring, PerSetpoint, Setpoint,
 };
 use prehensile_core::hand::Joint;
 use prehensile_core::math::{Rotation, Transform, Vec3};
@@ -246,12 +246,12 @@ fn the_torques_power_is_the_rate_of_kinetic_energy() {
 /// Setpoints of a controller that moves from pose `a` (setpoint 0) toward pose `b` (setpoint 1).
 fn two_setpoints(n: usize, a: &[f64], b: &[f64]) -> prehensile_control::Setpoints {
     prehensile_control::Setpoints {
-        positions: std::array::from_fn(|j| match j {
-            0 => a.to_vec(),
-            1 => b.to_vec(),
+        positions: PerSetpoint::from_fn(|s| match s {
+            Setpoint::Neutral => a.to_vec(),
+            Setpoint::Open => b.to_vec(),
             _ => vec![0.0; n],
         }),
-        velocities: std::array::from_fn(|_| vec![0.0; n]),
+        velocities: PerSetpoint::from_fn(|_| vec![0.0; n]),
         neutral: a.to_vec(),
         limits: vec![[-1.5, 1.6]; n],
     }
@@ -296,13 +296,13 @@ fn active_setpoints_of_ball_joints_are_recovered_from_a_simulated_motion() {
     // The motion determines k_S·P_S + k_D·P_D of the setpoints it blends (0 and 1), in
     // radians: P_S + (k_D / k_S)·P_D. Rotation-vector rates in place of the angular velocity
     // would miss it by up to 0.04 rad; the fit is within 0.0006.
-    for j in 0..2 {
+    for j in [Setpoint::Neutral, Setpoint::Open] {
         for k in 0..n {
             let got = fitted.positions[j][k] + gains.k_d / gains.k_s * fitted.velocities[j][k];
             let want = truth.positions[j][k];
             assert!(
                 (got - want).abs() < 0.002,
-                "setpoint {j} dof {k}: {got} vs {want} rad"
+                "setpoint {j:?} dof {k}: {got} vs {want} rad"
             );
         }
     }

@@ -5,14 +5,15 @@ mod common;
 use nalgebra::DVector;
 use prehensile_control::{
     active_torque, gravity_torques, joint_springs, outboard_inertia, passive_torque, BaseMotion,
-    DynamicsModel, Gains, GraspController, GraspState, JointSpring, OutboardInertia, Setpoints,
+    Blend, DynamicsModel, Gains, GraspController, GraspState, JointSpring, OutboardInertia,
+    PerSetpoint, Setpoint, Setpoints,
 };
 use prehensile_core::math::Vec3;
 
 fn setpoints(n: usize) -> Setpoints {
     Setpoints {
-        positions: std::array::from_fn(|j| vec![0.1 * j as f64; n]),
-        velocities: std::array::from_fn(|_| vec![0.0; n]),
+        positions: PerSetpoint::from_fn(|s| vec![0.1 * s.index() as f64; n]),
+        velocities: PerSetpoint::from_fn(|_| vec![0.0; n]),
         neutral: vec![0.2; n],
         limits: vec![[0.0, 1.0]; n],
     }
@@ -34,21 +35,21 @@ fn blends_follow_figure_3_and_grip_strength_extrapolates() {
     ] {
         let b = state.blend(distance, 0.0, &g);
         assert!(
-            (b.iter().sum::<f64>() - 1.0).abs() < 1e-12,
+            (b.values().sum::<f64>() - 1.0).abs() < 1e-12,
             "{state:?}: {b:?}"
         );
     }
     assert_eq!(
-        GraspState::Opening.blend(0.175, 0.0, &g),
+        GraspState::Opening.blend(0.175, 0.0, &g).0,
         [0.5, 0.5, 0.0, 0.0, 0.0, 0.0]
     );
     assert_eq!(
-        GraspState::Closing.blend(0.025, 0.0, &g),
+        GraspState::Closing.blend(0.025, 0.0, &g).0,
         [0.0, 0.5, 0.5, 0.0, 0.0, 0.0]
     );
     // Eq. 15–16: B[2] = 1 + α, B[1] = −α.
     assert_eq!(
-        GraspState::Gripping.blend(0.0, 0.3, &g),
+        GraspState::Gripping.blend(0.0, 0.3, &g).0,
         [0.0, -0.3, 1.3, 0.0, 0.0, 0.0]
     );
 }
@@ -100,7 +101,7 @@ fn active_law(
     q: &[f64],
     qd: &[f64],
     s: &Setpoints,
-    blend: &[f64; 6],
+    blend: &Blend,
     g: &Gains,
 ) -> Vec<f64> {
     let mut out = vec![f64::NAN; q.len()];
@@ -156,7 +157,7 @@ fn the_controller_adds_compensation_by_inverse_dynamics() {
     let mut s = setpoints(n);
     s.neutral = q.clone();
     s.limits = vec![[-3.0, 3.0]; n];
-    s.positions = std::array::from_fn(|_| q.clone());
+    s.positions = PerSetpoint::from_fn(|_| q.clone());
     let mut controller = GraspController::new(Gains::grasp(), s);
     let model = DynamicsModel::new(&hand);
     let mut data = model.data();
@@ -232,8 +233,8 @@ fn active_setpoints_fitted_from_a_simulated_motion_recover_the_controller() {
     let mut truth = setpoints(n);
     truth.neutral = vec![0.1; n];
     truth.limits = vec![[-1.0, 1.6]; n];
-    truth.positions[0] = vec![0.05; n];
-    truth.positions[1] = (0..n).map(|k| 0.2 + 0.03 * k as f64).collect();
+    truth.positions[Setpoint::Neutral] = vec![0.05; n];
+    truth.positions[Setpoint::Open] = (0..n).map(|k| 0.2 + 0.03 * k as f64).collect();
     let mut controller = GraspController::new(gains, truth.clone());
     controller.state = GraspState::Opening;
     // Simulate 0.25 s while the object comes from 30 cm to 5 cm (state Opening throughout).
@@ -256,18 +257,20 @@ fn active_setpoints_fitted_from_a_simulated_motion_recover_the_controller() {
     fitted.limits = truth.limits.clone();
     fit_active(&hand, &frames, dt, &blends, &base, &gains, &mut fitted).unwrap();
     // The motion determines k_S·P_S + k_D·P_D for the setpoints it uses (0 and 1).
-    for j in 0..2 {
+    for j in [Setpoint::Neutral, Setpoint::Open] {
         for k in 0..n {
             let got = gains.k_s * fitted.positions[j][k] + gains.k_d * fitted.velocities[j][k];
             let want = gains.k_s * truth.positions[j][k];
             assert!(
                 (got - want).abs() < 0.02 * want.abs().max(1.0),
-                "setpoint {j} dof {k}: {got} vs {want}"
+                "setpoint {j:?} dof {k}: {got} vs {want}"
             );
         }
     }
     // Setpoints the motion never blends in stay zero.
-    assert!(fitted.positions[3].iter().all(|v| v.abs() < 1e-9));
+    assert!(fitted.positions[Setpoint::Release]
+        .iter()
+        .all(|v| v.abs() < 1e-9));
 }
 
 #[test]
@@ -275,7 +278,7 @@ fn joint_springs_are_the_passive_plus_active_torque() {
     let g = Gains::grasp();
     let n = 4;
     let mut s = setpoints(n);
-    s.velocities[2] = vec![0.3; n];
+    s.velocities[Setpoint::Grip] = vec![0.3; n];
     let inertia = OutboardInertia {
         diagonal: vec![1e-4, 2e-5, 3e-6, 5e-7],
         balls: Vec::new(),
@@ -311,9 +314,9 @@ fn joint_springs_are_the_passive_plus_active_torque() {
 #[test]
 fn a_manual_setpoint_overrides_the_state_machine() {
     let mut c = GraspController::new(Gains::grasp(), setpoints(3));
-    assert_eq!(c.advance(0.175, false), [0.5, 0.5, 0.0, 0.0, 0.0, 0.0]);
-    c.manual_setpoint = Some(3);
-    assert_eq!(c.advance(0.0, false), [0.0, 0.0, 0.0, 1.0, 0.0, 0.0]);
+    assert_eq!(c.advance(0.175, false).0, [0.5, 0.5, 0.0, 0.0, 0.0, 0.0]);
+    c.manual_setpoint = Some(Setpoint::Release);
+    assert_eq!(c.advance(0.0, false).0, [0.0, 0.0, 0.0, 1.0, 0.0, 0.0]);
     // The state machine keeps running underneath.
     assert_eq!(c.state, GraspState::Closing);
 }
@@ -334,7 +337,8 @@ fn a_controller_fitted_to_a_synthetic_example_round_trips_through_its_file() {
     // equilibrium θ_S + k_D/k_S θ̇_S) balance at their mean: that is the example's closed pose,
     // within the dynamics the least squares absorbs.
     for (k, target) in closed.iter().enumerate() {
-        let grip = c.setpoints.positions[2][k] + g.k_d / g.k_s * c.setpoints.velocities[2][k];
+        let grip = c.setpoints.positions[Setpoint::Grip][k]
+            + g.k_d / g.k_s * c.setpoints.velocities[Setpoint::Grip][k];
         let rest = (grip + c.setpoints.neutral[k]) / 2.0;
         assert!((rest - target).abs() < 0.15, "dof {k}: {rest} vs {target}");
     }

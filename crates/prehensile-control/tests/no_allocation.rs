@@ -5,7 +5,9 @@
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use prehensile_control::{crba, rnea, BaseMotion, DynamicsModel, Gains, GraspController};
+use prehensile_control::{
+    crba, rnea, BaseMotion, DynamicsModel, Gains, GraspController, PerSetpoint,
+};
 use prehensile_core::math::Vec3;
 
 struct Counting;
@@ -40,8 +42,8 @@ fn the_dynamics_and_the_controller_allocate_nothing() {
     let (q, qd, qdd) = (vec![0.2; n], vec![0.5; n], vec![1.0; n]);
     let base = BaseMotion::at_rest(Vec3::new(0.0, 0.0, -9.81));
     let setpoints = prehensile_control::Setpoints {
-        positions: std::array::from_fn(|j| vec![0.1 * j as f64; n]),
-        velocities: std::array::from_fn(|_| vec![0.0; n]),
+        positions: PerSetpoint::from_fn(|s| vec![0.1 * s.index() as f64; n]),
+        velocities: PerSetpoint::from_fn(|_| vec![0.0; n]),
         neutral: vec![0.0; n],
         limits: vec![[-1.0, 1.0]; n],
     };

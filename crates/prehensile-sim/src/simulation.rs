@@ -5,7 +5,7 @@
 
 use prehensile_control::{
     ball_joint_coupling, joint_springs, outboard_inertia_into, DynamicsData, DynamicsModel,
-    GraspController, GraspState, JointSpring,
+    GraspController, GraspState, JointSpring, Setpoint,
 };
 use prehensile_core::animation::Keyframe;
 use prehensile_core::math::{Point3, Rotation, Transform, Vec3};
@@ -174,7 +174,7 @@ pub struct HandSetup {
     /// Arm-motion compensation τARM.
     pub compensate_arm: bool,
     /// Manual setpoint changes `(time, setpoint or None for the state machine)` (Fig. 7).
-    pub manual: Vec<(f64, Option<usize>)>,
+    pub manual: Vec<(f64, Option<Setpoint>)>,
 }
 
 /// A change of a hand's controller state.
@@ -274,8 +274,8 @@ impl Simulation {
             && s.neutral.len() == n
             && s.limits.len() == n
             && s.positions
-                .iter()
-                .chain(&s.velocities)
+                .values()
+                .chain(s.velocities.values())
                 .all(|v| v.len() == n);
         if !lengths_ok {
             return Err(SimError::Settings(format!(
@@ -285,8 +285,8 @@ impl Simulation {
         }
         let mut numbers = s
             .positions
-            .iter()
-            .chain(&s.velocities)
+            .values()
+            .chain(s.velocities.values())
             .chain(std::iter::once(&s.neutral))
             .chain(std::iter::once(&setup.start))
             .flatten()

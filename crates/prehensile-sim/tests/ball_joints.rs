@@ -2,7 +2,9 @@
 //! springs about the bone's own axes (rotation-vector coordinates, as in the paper), with the
 //! cross terms of the 3×3 outboard inertia added as torques.
 
-use prehensile_control::{gravity_torques, outboard_inertia, Gains, GraspController, Setpoints};
+use prehensile_control::{
+    gravity_torques, outboard_inertia, Gains, GraspController, PerSetpoint, Setpoints,
+};
 use prehensile_core::hand::Joint;
 use prehensile_core::math::{Rotation, Transform, Vec3};
 use prehensile_core::HandModel;
@@ -36,8 +38,8 @@ fn ball_dofs(hand: &HandModel) -> Vec<usize> {
 fn passive(hand: &HandModel, root: Transform, neutral: &[f64], start: &[f64]) -> HandSetup {
     let n = hand.dof_count();
     let setpoints = Setpoints {
-        positions: std::array::from_fn(|_| neutral.to_vec()),
-        velocities: std::array::from_fn(|_| vec![0.0; n]),
+        positions: PerSetpoint::from_fn(|_| neutral.to_vec()),
+        velocities: PerSetpoint::from_fn(|_| vec![0.0; n]),
         neutral: neutral.to_vec(),
         limits: hand.dof_limits(),
     };
@@ -141,7 +143,7 @@ fn velocity_setpoints_turn_a_ball_joint_the_right_way() {
     let rate = pose(&hand, [0.4, -0.4, 0.4], 0.0);
     let mut setup = passive(&hand, Transform::identity(), &target, &target);
     setup.controller.active = true;
-    setup.controller.setpoints.velocities = std::array::from_fn(|_| rate.clone());
+    setup.controller.setpoints.velocities = PerSetpoint::from_fn(|_| rate.clone());
     let mut sim = Simulation::new(Settings {
         gravity: Vec3::zeros(),
         ..Settings::default()

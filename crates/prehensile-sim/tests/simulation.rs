@@ -242,7 +242,7 @@ fn bad_settings_and_setpoints_are_refused_with_reasons() {
     }
     let hand = human();
     let (mut setup, _) = passive_setup(&hand, Vec3::zeros());
-    setup.controller.setpoints.positions[2][3] = f64::NAN;
+    setup.controller.setpoints.positions[prehensile_control::Setpoint::Grip][3] = f64::NAN;
     let mut sim = Simulation::new(Settings::default()).unwrap();
     let e = sim.add_hand(setup).unwrap_err();
     assert!(e.to_string().contains("not finite"), "{e}");

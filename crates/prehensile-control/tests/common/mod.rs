@@ -1,7 +1,7 @@
 //! Helpers shared by the integration tests.
 
 use prehensile_control::{
-    forward_dynamics, BaseMotion, DynamicsModel, GraspController, GraspState,
+    forward_dynamics, BaseMotion, Blend, DynamicsModel, GraspController, GraspState,
 };
 use prehensile_core::HandModel;
 
@@ -9,7 +9,7 @@ use prehensile_core::HandModel;
 pub struct Motion {
     pub dt: f64,
     pub frames: Vec<Vec<f64>>,
-    pub blends: Vec<[f64; 6]>,
+    pub blends: Vec<Blend>,
     pub last: Vec<f64>,
 }
 

@@ -22,7 +22,7 @@ pub(crate) fn grasp_case(
     controller: &GraspController,
     settings: Settings,
     (times, seconds): (GraspTimes, f64),
-    manual: Vec<(f64, Option<usize>)>,
+    manual: Vec<(f64, Option<prehensile_control::Setpoint>)>,
     label: String,
     progress: &mut dyn FnMut(&str, f64),
 ) -> Result<(CaseReport, Recording), SimError> {

@@ -3,7 +3,7 @@
 //! controller's distance is the distance between the hands' roots beyond their meeting
 //! distance.
 
-use prehensile_control::Gains;
+use prehensile_control::{Gains, Setpoint};
 use prehensile_core::math::{Rotation, Transform, Vec3};
 use prehensile_core::HandModel;
 
@@ -76,7 +76,7 @@ pub(crate) fn run(
         controller.alpha = options.alpha;
         sim.add_hand(HandSetup {
             hand: hand.clone(),
-            start: controller.setpoints.positions[0].clone(),
+            start: controller.setpoints.positions[Setpoint::Neutral].clone(),
             controller,
             arm: path(rotation, x, side),
             distance: DistanceTo::OtherHand {

@@ -5,6 +5,7 @@
 use super::grasp::{example_controller, grasp_case};
 use super::{CaseReport, GraspTimes, Options, Recording, Scenario};
 use crate::SimError;
+use prehensile_control::Setpoint;
 
 pub(crate) fn run(
     options: &Options,
@@ -21,8 +22,8 @@ pub(crate) fn run(
     let mut manual = Vec::new();
     for k in 0..3 {
         let t = times.lifted + 0.1 + 0.5 * k as f64;
-        manual.push((t, Some(1)));
-        manual.push((t + 0.03, Some(2)));
+        manual.push((t, Some(Setpoint::Open)));
+        manual.push((t + 0.03, Some(Setpoint::Grip)));
     }
     manual.push((times.lifted + 1.6, None));
     let mut hold = times;

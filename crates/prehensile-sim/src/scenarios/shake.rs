@@ -2,6 +2,7 @@
 //! with and without the arm-motion compensation τARM; the fingers' lag behind the arm is their
 //! deviation from where they were before the shake.
 
+use prehensile_control::Setpoint;
 use prehensile_core::math::Vec3;
 
 use super::drop_test::palm_down;
@@ -24,7 +25,7 @@ pub(crate) fn run(
     let mut lags = Vec::new();
     for compensate_arm in [true, false] {
         let controller = poses.controller(hand, &options.settings.gravity)?;
-        let start = controller.setpoints.positions[0].clone();
+        let start = controller.setpoints.positions[Setpoint::Neutral].clone();
         let arm = ArmTrajectory::new(vec![Waypoint {
             time: 0.0,
             root: palm_down(),
