@@ -295,7 +295,9 @@ pub fn ball_joint_coupling(
     }
 }
 
-/// The controller: state, setpoints, gains and grip strength.
+/// The controller's model: gains, setpoints, grip strength and switches, as fitted or read from
+/// a file. What changes as it runs is a [`ControllerState`], kept apart (as MuJoCo keeps mjData
+/// apart from mjModel): one controller can drive several hands, each with its own state.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GraspController {
     /// Gains and distances.
@@ -304,53 +306,58 @@ pub struct GraspController {
     pub setpoints: Setpoints,
     /// Grip strength α (the paper uses 0 to 0.5).
     pub alpha: f64,
-    /// Current state.
-    pub state: GraspState,
     /// Whether τA acts (false: the passive hand of the drop test).
     pub active: bool,
-    /// A setpoint chosen by hand (Fig. 7's interactive open/close), overriding the state
-    /// machine's blend while set; the grip setpoint (2) is extrapolated by α as in GRIPPING.
-    pub manual_setpoint: Option<Setpoint>,
     /// Keep the hand open (B\[1\] = 1) through CLOSING, as the paper's grasps did (§7) "to keep
     /// the hand from contacting the object too quickly"; it closes on GRIPPING.
     pub open_while_closing: bool,
 }
 
+/// What a running controller changes: the state machine's state and a setpoint chosen by hand.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ControllerState {
+    /// Current state (NEUTRAL at first).
+    pub state: GraspState,
+    /// A setpoint chosen by hand (Fig. 7's interactive open/close), overriding the state
+    /// machine's blend while set; the grip setpoint is extrapolated by α as in GRIPPING.
+    pub manual_setpoint: Option<Setpoint>,
+}
+
 impl GraspController {
-    /// A controller in the NEUTRAL state with α = 0, active, following the state machine.
+    /// A controller with α = 0, active, following the state machine.
     pub fn new(gains: Gains, setpoints: Setpoints) -> Self {
         Self {
             gains,
             setpoints,
             alpha: 0.0,
-            state: GraspState::Neutral,
             active: true,
-            manual_setpoint: None,
             open_while_closing: false,
         }
     }
 
-    /// Advances the state machine for the hand–object `distance` and returns the blend weights.
-    pub fn advance(&mut self, distance: f64, release: bool) -> Blend {
-        self.state = self.state.next(distance, release, &self.gains);
-        match self.manual_setpoint {
+    /// Advances the state machine in `run` for the hand–object `distance` and returns the blend
+    /// weights.
+    pub fn advance(&self, run: &mut ControllerState, distance: f64, release: bool) -> Blend {
+        run.state = run.state.next(distance, release, &self.gains);
+        match run.manual_setpoint {
             // The grip setpoint carries the grip strength, as in GRIPPING.
             Some(Setpoint::Grip) => GraspState::Gripping.blend(distance, self.alpha, &self.gains),
             Some(s) => Blend::only(s),
-            None if self.open_while_closing && self.state == GraspState::Closing => {
+            None if self.open_while_closing && run.state == GraspState::Closing => {
                 Blend::only(Setpoint::Open)
             }
-            None => self.state.blend(distance, self.alpha, &self.gains),
+            None => run.state.blend(distance, self.alpha, &self.gains),
         }
     }
 
-    /// Advances the state machine and writes into `out` the joint torques τP + τA + τG + τARM
+    /// Advances the state machine in `run` and writes into `out` the joint torques τP + τA + τG + τARM
     /// for the hand at `q`, `qd`, its base moving as `base` (gravity included there), the object
     /// `distance` away. `compensate` turns the inverse-dynamics terms τG + τARM on. Allocates
     /// nothing: `model` and `data` are the hand's dynamics and their buffers.
     #[allow(clippy::too_many_arguments)]
     pub fn torques(
-        &mut self,
+        &self,
+        run: &mut ControllerState,
         model: &DynamicsModel,
         data: &mut DynamicsData,
         q: &[f64],
@@ -372,7 +379,7 @@ impl GraspController {
                 expected: model.dof_count(),
             });
         }
-        let blend = self.advance(distance, release);
+        let blend = self.advance(run, distance, release);
         let inertia = outboard_inertia_into(model, data, q)?;
         for (k, out) in out.iter_mut().enumerate() {
             *out = passive_unit(k, q, qd, &self.setpoints, &self.gains);

@@ -5,7 +5,7 @@ use prehensile_core::HandModel;
 use serde::{Deserialize, Serialize};
 
 use crate::active_fitting::fit_active;
-use crate::controller::{Gains, GraspController, Setpoints};
+use crate::controller::{ControllerState, Gains, GraspController, Setpoints};
 use crate::example_motion::Motion;
 use crate::inverse_dynamics::{BaseMotion, DynamicsError};
 use crate::passive_fitting::fit_passive;
@@ -50,9 +50,10 @@ pub fn fit_controller(
         .distances
         .iter()
         .enumerate()
-        .map(|(t, &d)| controller.advance(d, t >= release))
+        .scan(ControllerState::default(), |run, (t, &d)| {
+            Some(controller.advance(run, d, t >= release))
+        })
         .collect();
-    controller.state = Default::default();
     fit_active(
         hand,
         &motion.frames,

@@ -25,8 +25,8 @@ mod setpoint;
 
 pub use active_fitting::fit_active;
 pub use controller::{
-    active_torque, ball_joint_coupling, joint_springs, passive_torque, Gains, GraspController,
-    GraspState, JointSpring, Setpoints,
+    active_torque, ball_joint_coupling, joint_springs, passive_torque, ControllerState, Gains,
+    GraspController, GraspState, JointSpring, Setpoints,
 };
 pub use controller_fitting::{
     fit_controller, ControllerFile, GainsRecord, SetpointRecord, CONTROLLER_SCHEMA, SETPOINT_NAMES,

@@ -259,7 +259,7 @@ fn two_setpoints(n: usize, a: &[f64], b: &[f64]) -> prehensile_control::Setpoint
 
 #[test]
 fn active_setpoints_of_ball_joints_are_recovered_from_a_simulated_motion() {
-    use prehensile_control::{fit_active, BaseMotion, Gains, GraspController, GraspState};
+    use prehensile_control::{fit_active, BaseMotion, Gains, GraspController};
     let hand = ball_hand();
     let n = hand.dof_count();
     let gains = Gains::grasp();
@@ -267,15 +267,14 @@ fn active_setpoints_of_ball_joints_are_recovered_from_a_simulated_motion() {
     let start: Vec<f64> = (0..n).map(|k| 0.3 * (k as f64 * 1.3).sin()).collect();
     let goal: Vec<f64> = (0..n).map(|k| 0.5 * (k as f64 * 0.9 + 1.0).cos()).collect();
     let truth = two_setpoints(n, &start, &goal);
-    let mut controller = GraspController::new(gains, truth.clone());
-    controller.state = GraspState::Opening;
+    let controller = GraspController::new(gains, truth.clone());
     // 0.25 s of the Opening blend; ball joints turn by R ← R·exp(ω dt), ω in the bone's frame.
     let common::Motion {
         dt,
         frames,
         blends,
         last: q,
-    } = common::opening_motion(&hand, &mut controller, &base, &start, |q, qd, dt| {
+    } = common::opening_motion(&hand, &controller, &base, &start, |q, qd, dt| {
         for bone in hand.bones() {
             let f = bone.first_dof;
             match bone.joint {

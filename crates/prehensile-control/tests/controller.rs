@@ -5,8 +5,8 @@ mod common;
 use nalgebra::DVector;
 use prehensile_control::{
     active_torque, gravity_torques, joint_springs, outboard_inertia, passive_torque, BaseMotion,
-    Blend, DynamicsModel, Gains, GraspController, GraspState, JointSpring, OutboardInertia,
-    PerSetpoint, Setpoint, Setpoints,
+    Blend, ControllerState, DynamicsModel, Gains, GraspController, GraspState, JointSpring,
+    OutboardInertia, PerSetpoint, Setpoint, Setpoints,
 };
 use prehensile_core::math::Vec3;
 
@@ -161,12 +161,14 @@ fn the_controller_adds_compensation_by_inverse_dynamics() {
     let mut controller = GraspController::new(Gains::grasp(), s);
     let model = DynamicsModel::new(&hand);
     let mut data = model.data();
+    let mut run = ControllerState::default();
     let mut torques = |controller: &mut GraspController, distance: f64, compensate: bool| {
         let mut tau = vec![f64::NAN; n];
         let at_rest = BaseMotion::at_rest(gravity);
         controller
             .torques(
-                &model, &mut data, &q, &zero, &at_rest, distance, false, compensate, &mut tau,
+                &mut run, &model, &mut data, &q, &zero, &at_rest, distance, false, compensate,
+                &mut tau,
             )
             .map(|()| DVector::from_vec(tau))
     };
@@ -235,8 +237,7 @@ fn active_setpoints_fitted_from_a_simulated_motion_recover_the_controller() {
     truth.limits = vec![[-1.0, 1.6]; n];
     truth.positions[Setpoint::Neutral] = vec![0.05; n];
     truth.positions[Setpoint::Open] = (0..n).map(|k| 0.2 + 0.03 * k as f64).collect();
-    let mut controller = GraspController::new(gains, truth.clone());
-    controller.state = GraspState::Opening;
+    let controller = GraspController::new(gains, truth.clone());
     // Simulate 0.25 s while the object comes from 30 cm to 5 cm (state Opening throughout).
     let common::Motion {
         dt,
@@ -245,7 +246,7 @@ fn active_setpoints_fitted_from_a_simulated_motion_recover_the_controller() {
         last: q,
     } = common::opening_motion(
         &hand,
-        &mut controller,
+        &controller,
         &base,
         &vec![0.05; n],
         |q, qd, dt| q.iter_mut().zip(qd).for_each(|(q, qd)| *q += dt * qd),
@@ -313,12 +314,19 @@ fn joint_springs_are_the_passive_plus_active_torque() {
 
 #[test]
 fn a_manual_setpoint_overrides_the_state_machine() {
-    let mut c = GraspController::new(Gains::grasp(), setpoints(3));
-    assert_eq!(c.advance(0.175, false).0, [0.5, 0.5, 0.0, 0.0, 0.0, 0.0]);
-    c.manual_setpoint = Some(Setpoint::Release);
-    assert_eq!(c.advance(0.0, false).0, [0.0, 0.0, 0.0, 1.0, 0.0, 0.0]);
+    let c = GraspController::new(Gains::grasp(), setpoints(3));
+    let mut run = ControllerState::default();
+    assert_eq!(
+        c.advance(&mut run, 0.175, false).0,
+        [0.5, 0.5, 0.0, 0.0, 0.0, 0.0]
+    );
+    run.manual_setpoint = Some(Setpoint::Release);
+    assert_eq!(
+        c.advance(&mut run, 0.0, false).0,
+        [0.0, 0.0, 0.0, 1.0, 0.0, 0.0]
+    );
     // The state machine keeps running underneath.
-    assert_eq!(c.state, GraspState::Closing);
+    assert_eq!(run.state, GraspState::Closing);
 }
 
 #[test]

@@ -6,7 +6,7 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use prehensile_control::{
-    crba, rnea, BaseMotion, DynamicsModel, Gains, GraspController, PerSetpoint,
+    crba, rnea, BaseMotion, ControllerState, DynamicsModel, Gains, GraspController, PerSetpoint,
 };
 use prehensile_core::math::Vec3;
 
@@ -47,7 +47,8 @@ fn the_dynamics_and_the_controller_allocate_nothing() {
         neutral: vec![0.0; n],
         limits: vec![[-1.0, 1.0]; n],
     };
-    let mut controller = GraspController::new(Gains::grasp(), setpoints);
+    let controller = GraspController::new(Gains::grasp(), setpoints);
+    let mut state = ControllerState::default();
     let mut tau = vec![0.0; n];
     // Warm up, then count.
     let mut run = || {
@@ -55,7 +56,7 @@ fn the_dynamics_and_the_controller_allocate_nothing() {
         crba(&model, &mut data, &q).unwrap();
         controller
             .torques(
-                &model, &mut data, &q, &qd, &base, 0.02, false, true, &mut tau,
+                &mut state, &model, &mut data, &q, &qd, &base, 0.02, false, true, &mut tau,
             )
             .unwrap();
     };

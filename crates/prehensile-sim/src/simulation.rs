@@ -4,8 +4,8 @@
 //! and compensation (τG + τARM, as body wrenches), steps the world, and checks that nothing diverged.
 
 use prehensile_control::{
-    ball_joint_coupling, joint_springs, outboard_inertia_into, DynamicsData, DynamicsModel,
-    GraspController, GraspState, JointSpring, Setpoint,
+    ball_joint_coupling, joint_springs, outboard_inertia_into, ControllerState, DynamicsData,
+    DynamicsModel, GraspController, GraspState, JointSpring, Setpoint,
 };
 use prehensile_core::animation::Keyframe;
 use prehensile_core::math::{Point3, Rotation, Transform, Vec3};
@@ -213,6 +213,8 @@ struct SimHand {
     /// The hand's dynamics, built once, and their buffers.
     dynamics: DynamicsModel,
     dynamics_data: DynamicsData,
+    /// What its controller changes as it runs.
+    control: ControllerState,
     /// This step's joint springs and ball-joint cross torques.
     springs: Vec<JointSpring>,
     coupling: Vec<f64>,
@@ -319,6 +321,7 @@ impl Simulation {
             target_velocity: 0.0,
         };
         self.hands.push(SimHand {
+            control: ControllerState::default(),
             dynamics_data: dynamics.data(),
             dynamics,
             springs: vec![spring; n],
@@ -380,12 +383,18 @@ impl Simulation {
 
     /// The controller state of hand `i`.
     pub fn state(&self, i: usize) -> GraspState {
-        self.hands[i].setup.controller.state
+        self.hands[i].control.state
     }
 
-    /// The controller of hand `i` (to change α or the manual setpoint while running).
+    /// The controller of hand `i` (to change α while running).
     pub fn controller_mut(&mut self, i: usize) -> &mut GraspController {
         &mut self.hands[i].setup.controller
+    }
+
+    /// What hand `i`'s controller changes as it runs (its state; a manual setpoint, which the
+    /// setup's `manual` changes also set).
+    pub fn controller_state_mut(&mut self, i: usize) -> &mut ControllerState {
+        &mut self.hands[i].control
     }
 
     /// The object's pose, if there is one.
@@ -508,17 +517,20 @@ impl Simulation {
             h.body.state(&self.world, &mut h.q, &mut h.qd);
             for &(at, choice) in &h.setup.manual {
                 if at <= self.time && at > self.time - dt {
-                    h.setup.controller.manual_setpoint = choice;
+                    h.control.manual_setpoint = choice;
                 }
             }
             let release = h.setup.release_at.is_some_and(|t| self.time >= t);
-            let before = h.setup.controller.state;
-            let blend = h.setup.controller.advance(distance, release);
-            if h.setup.controller.state != before {
+            let before = h.control.state;
+            let blend = h
+                .setup
+                .controller
+                .advance(&mut h.control, distance, release);
+            if h.control.state != before {
                 self.timeline.push(StateChange {
                     time: self.time,
                     hand: i,
-                    state: format!("{:?}", h.setup.controller.state),
+                    state: format!("{:?}", h.control.state),
                     distance,
                 });
             }

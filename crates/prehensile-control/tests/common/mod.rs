@@ -1,7 +1,8 @@
 //! Helpers shared by the integration tests.
 
 use prehensile_control::{
-    forward_dynamics, BaseMotion, Blend, DynamicsModel, GraspController, GraspState,
+    forward_dynamics, BaseMotion, Blend, ControllerState, DynamicsModel, GraspController,
+    GraspState,
 };
 use prehensile_core::HandModel;
 
@@ -13,13 +14,13 @@ pub struct Motion {
     pub last: Vec<f64>,
 }
 
-/// A motion the fitting tests recover a controller from: `controller` (in state Opening) drives
+/// A motion the fitting tests recover a controller from: `controller`, in state Opening, drives
 /// `hand` from `start` by forward dynamics for 0.25 s in steps of 0.5 ms, while the object comes
 /// from 30 cm to 5 cm so that the state stays Opening throughout. `advance(q, qd, dt)` turns the
 /// angles by the updated rates.
 pub fn opening_motion(
     hand: &HandModel,
-    controller: &mut GraspController,
+    controller: &GraspController,
     base: &BaseMotion,
     start: &[f64],
     advance: impl Fn(&mut [f64], &[f64], f64),
@@ -30,14 +31,18 @@ pub fn opening_motion(
     let model = DynamicsModel::new(hand);
     let mut data = model.data();
     let mut tau = vec![0.0; start.len()];
+    let mut run = ControllerState {
+        state: GraspState::Opening,
+        manual_setpoint: None,
+    };
     for s in 0..steps {
         let distance = 0.3 - 0.25 * s as f64 / steps as f64;
         controller
             .torques(
-                &model, &mut data, &q, &qd, base, distance, false, true, &mut tau,
+                &mut run, &model, &mut data, &q, &qd, base, distance, false, true, &mut tau,
             )
             .unwrap();
-        assert_eq!(controller.state, GraspState::Opening);
+        assert_eq!(run.state, GraspState::Opening);
         frames.push(q.clone());
         blends.push(GraspState::Opening.blend(distance, 0.0, &controller.gains));
         let qdd = forward_dynamics(&model, &mut data, &q, &qd, &tau, base).unwrap();
