@@ -6,6 +6,13 @@
 //! blends and grip strength; fitting the controller to an example motion, and its file format.
 //! The simulation lives in `prehensile-sim`.
 //!
+//! Model apart from data, as in Pinocchio and MuJoCo: [`DynamicsModel`] is built once per hand
+//! and [`rnea`], [`crba`], [`outboard_inertia_into`] write into its [`DynamicsData`];
+//! [`GraspController`] is the controller as fitted or read, and each hand running it keeps its own
+//! [`ControllerState`]. Loops allocate nothing (`tests/no_allocation.rs`). The functions taking a
+//! `HandModel` ([`inverse_dynamics`], [`mass_matrix`], [`outboard_inertia`], [`gravity_torques`])
+//! build a model per call, for one-off use.
+//!
 //! Conventions: the base is the hand's root bone, fixed; gravity is given in the root bone's
 //! frame; joint vectors follow [`prehensile_core::HandModel::dof_names`].
 #![warn(missing_docs)]
