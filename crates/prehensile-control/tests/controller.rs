@@ -244,13 +244,9 @@ fn active_setpoints_fitted_from_a_simulated_motion_recover_the_controller() {
         frames,
         blends,
         last: q,
-    } = common::opening_motion(
-        &hand,
-        &controller,
-        &base,
-        &vec![0.05; n],
-        |q, qd, dt| q.iter_mut().zip(qd).for_each(|(q, qd)| *q += dt * qd),
-    );
+    } = common::opening_motion(&hand, &controller, &base, &vec![0.05; n], |q, qd, dt| {
+        q.iter_mut().zip(qd).for_each(|(q, qd)| *q += dt * qd)
+    });
     assert!(q.iter().all(|x| x.is_finite()));
     // Fit from the motion alone (the passive parameters are known).
     let mut fitted = setpoints(n);

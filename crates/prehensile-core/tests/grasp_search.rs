@@ -10,7 +10,7 @@ use prehensile_core::hand::Joint;
 use prehensile_core::math::{Point3, Vec3};
 use prehensile_core::search::{
     Evaluation, GraspPlanner, GraspResult, PlannerStatus, SearchError, SearchParams, SearchSink,
-    SearchStats, StopRule, TranslateMode,
+    SearchStats, StopRule, TranslateMode, SAMPLES_PER_SLICE,
 };
 use prehensile_core::shapes::BUILTIN_OBJECTS;
 use prehensile_core::{HandModel, ObjectModel, Workspace};
@@ -301,7 +301,8 @@ fn turning_the_character_restarts_the_search() {
     assert!(p.set_shoulder(large).unwrap());
     assert_eq!(p.stats().restarts, 1);
     // The restart's work runs in slices, so a game frame that works in slices keeps to its
-    // budget: 64 initial-approximation samples, 6 a slice, then one slice evaluating the start.
+    // budget: 64 initial-approximation samples, SAMPLES_PER_SLICE a slice, then one slice
+    // evaluating the start.
     // Until then the current pose is not evaluated and nothing is best.
     let steps_before = p.stats().steps;
     let mut slices = 0;
@@ -316,11 +317,11 @@ fn turning_the_character_restarts_the_search() {
         slices += 1;
         // One TranslateToFree per sample: a few dozen placements each at most.
         assert!(
-            p.stats().placements - placements < 6 * 200,
+            p.stats().placements - placements < SAMPLES_PER_SLICE as u64 * 200,
             "slice {slices}"
         );
     }
-    assert_eq!(slices, 64usize.div_ceil(6) + 1);
+    assert_eq!(slices, 64usize.div_ceil(SAMPLES_PER_SLICE) + 1);
     assert_eq!(
         p.stats().steps,
         steps_before,

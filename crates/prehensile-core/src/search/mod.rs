@@ -17,6 +17,7 @@ pub use find_grasp::{better_grasp, find_grasp, movements_to_try, GraspRequest, A
 pub use optimization_step::StepKind;
 pub use planner::{
     GraspPlanner, PlannerStatus, SearchError, SearchParams, SearchSink, SearchStats, StopRule,
+    SAMPLES_PER_SLICE,
 };
 pub use quality::{Evaluation, Invalid, QualityTerms, QualityWeights, ValidityRule};
 pub use result::{GraspResult, RESULT_SCHEMA};

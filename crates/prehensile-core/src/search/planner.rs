@@ -210,10 +210,10 @@ enum Restart {
     Evaluating(Rotation),
 }
 
-/// Initial-approximation samples per slice: each is one TranslateToFree, so a slice costs about
-/// what one candidate of a step does, and the 64 samples take 11 slices instead of one call of
-/// 40–100 ms.
-const SAMPLES_PER_SLICE: usize = 6;
+/// Initial-approximation samples per slice: each is one TranslateToFree, less than one candidate
+/// of a step costs. One a slice (six until session 10) keeps a 4 ms frame in wasm on the mug
+/// (frames at most 4.8 ms where six a slice took 13 ms each; `docs/PERFORMANCE.md`).
+pub const SAMPLES_PER_SLICE: usize = 1;
 
 impl<'a> GraspPlanner<'a> {
     /// Sets up the search: nearest hook, starting position (or the initial approximation), and
