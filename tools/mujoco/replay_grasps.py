@@ -188,6 +188,17 @@ def search(obj, movement, seed, out):
     return p.returncode
 
 
+def meshes(objects):
+    """The objects replayed: name (as `prehensile grasp --object` takes it) -> mesh file, the
+    built-in objects from the folder `objects` and the closed robosuite scans."""
+    out = {name: os.path.join(objects, f"{name}.obj")
+           for name in ["sphere", "box", "cylinder", "torus", "mug"]}
+    for f in ["robosuite_lemon.stl", "robosuite_milk.stl", "robosuite_bread.stl",
+              "robosuite_cereal.stl", "robosuite_can.obj"]:
+        out[f"assets/objects/{f}"] = f"assets/objects/{f}"
+    return out
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--objects", required=True, help="folder of the built-in objects as OBJ")
@@ -195,15 +206,10 @@ def main():
     ap.add_argument("--movements", nargs="+", default=["power", "precision", "close"])
     ap.add_argument("--validity", default="holds")
     args = ap.parse_args()
-    meshes = {name: os.path.join(args.objects, f"{name}.obj")
-              for name in ["sphere", "box", "cylinder", "torus", "mug"]}
-    for f in ["robosuite_lemon.stl", "robosuite_milk.stl", "robosuite_bread.stl",
-              "robosuite_cereal.stl", "robosuite_can.obj"]:
-        meshes[f"assets/objects/{f}"] = f"assets/objects/{f}"
     total = held6 = held5 = gravity = 0
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
-        for obj, mesh in meshes.items():
+        for obj, mesh in meshes(args.objects).items():
             for movement in args.movements:
                 for seed in args.seeds:
                     out = os.path.join(tmp, "r.json")

@@ -91,15 +91,10 @@ def main():
     ap.add_argument("--objects", required=True, help="folder of the built-in objects as OBJ")
     ap.add_argument("--seeds", type=int, nargs="+", default=[1, 2])
     args = ap.parse_args()
-    meshes = {name: os.path.join(args.objects, f"{name}.obj")
-              for name in ["sphere", "box", "cylinder", "torus", "mug"]}
-    for f in ["robosuite_lemon.stl", "robosuite_milk.stl", "robosuite_bread.stl",
-              "robosuite_cereal.stl", "robosuite_can.obj"]:
-        meshes[f"assets/objects/{f}"] = f"assets/objects/{f}"
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         out = os.path.join(tmp, "r.json")
-        for obj, mesh in meshes.items():
+        for obj, mesh in replay.meshes(args.objects).items():
             for movement in ["power", "precision", "close"]:
                 for seed in args.seeds:
                     if replay.search(obj, movement, seed, out) != 0:

@@ -2,35 +2,19 @@
 //! counting global allocator around inverse dynamics, the mass matrix and the controller's
 //! torques. (The simulation step's own check is a unit test in `prehensile-sim`.)
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
-
 use prehensile_control::{
     crba, rnea, BaseMotion, ControllerState, DynamicsModel, Gains, GraspController, PerSetpoint,
 };
+use prehensile_core::allocation_count::{allocations, CountingAllocator};
 use prehensile_core::math::Vec3;
 
-struct Counting;
-
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
-
 #[global_allocator]
-static GLOBAL: Counting = Counting;
+static COUNT: CountingAllocator = CountingAllocator;
 
-fn allocations(f: impl FnOnce()) -> usize {
-    let before = ALLOCATIONS.load(Ordering::SeqCst);
+fn allocations_in(f: impl FnOnce()) -> usize {
+    let before = allocations();
     f();
-    ALLOCATIONS.load(Ordering::SeqCst) - before
+    allocations() - before
 }
 
 #[test]
@@ -61,7 +45,7 @@ fn the_dynamics_and_the_controller_allocate_nothing() {
             .unwrap();
     };
     run();
-    let counted = allocations(|| {
+    let counted = allocations_in(|| {
         for _ in 0..10 {
             run()
         }

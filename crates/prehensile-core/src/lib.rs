@@ -16,6 +16,7 @@
 //! ```
 #![warn(missing_docs)]
 
+pub mod allocation_count;
 pub mod animation;
 pub mod collision;
 pub mod finger_closing;

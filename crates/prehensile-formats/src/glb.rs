@@ -276,22 +276,7 @@ fn animated_glb(
         let indices = b.indices(&idx);
         meshes.push(json!({"name": "skinned hand", "primitives": [{"attributes": {"POSITION": position, "JOINTS_0": joints, "WEIGHTS_0": weights}, "indices": indices, "material": 1}]}));
         // Inverse bind matrices: the bones' rest frames, which the mesh is posed in.
-        let rest = hand.pose_transforms(
-            &Transform::identity(),
-            &vec![Default::default(); hand.bones().len()],
-        );
-        let ibm: Vec<f32> = rest
-            .iter()
-            .flat_map(|t| {
-                t.inverse()
-                    .to_homogeneous()
-                    .as_slice()
-                    .iter()
-                    .map(|v| *v as f32)
-                    .collect::<Vec<_>>()
-            })
-            .collect();
-        let inverse_bind = b.floats(&ibm, "MAT4", 16, None, false);
+        let inverse_bind = b.floats(&inverse_bind_matrices(hand), "MAT4", 16, None, false);
         skins.push(json!({"joints": (0..hand.bones().len()).map(|k| first_bone + k).collect::<Vec<_>>(), "inverseBindMatrices": inverse_bind}));
         nodes.push(json!({"name": "skinned hand", "mesh": meshes.len() - 1, "skin": 0}));
         scene_nodes.push(nodes.len() - 1);
@@ -367,6 +352,19 @@ fn animated_glb(
         &serde_json::to_vec(&doc).expect("JSON values serialize"),
         &b.bin,
     )
+}
+
+/// A skin's inverse bind matrices for `hand`: per bone the inverse of its rest frame in the hand
+/// frame (the frame a [`SkinnedMesh`] is given in), 16 numbers column-major each.
+pub fn inverse_bind_matrices(hand: &HandModel) -> Vec<f32> {
+    let rest = hand.pose_transforms(
+        &Transform::identity(),
+        &vec![Default::default(); hand.bones().len()],
+    );
+    rest.iter()
+        .flat_map(|t| t.inverse().to_homogeneous().as_slice().to_vec())
+        .map(|v| v as f32)
+        .collect()
 }
 
 /// A binary glTF (GLB) file of a JSON chunk and a binary chunk, each padded to 4 bytes.

@@ -27,7 +27,7 @@ pub mod sources;
 pub use bvh::{euler_zxy, parse_bvh, write_bvh, BvhJoint, BvhMotion};
 pub use error::{FormatCause, FormatError};
 pub use file_access::{confined, read_input, read_input_text, MAX_MESH_BYTES, MAX_TEXT_BYTES};
-pub use glb::{glb_container, grasp_glb, simulation_glb};
+pub use glb::{glb_container, grasp_glb, inverse_bind_matrices, simulation_glb};
 pub use hand_gltf::{load_hand_gltf, load_hand_gltf_skinned, parse_hand_gltf_skinned, SkinnedMesh};
 pub use hand_import::Sidecar;
 pub use hand_mjcf::{load_hand_mjcf, parse_hand_mjcf, parse_hand_mjcf_files, parse_hand_mjcf_with};

@@ -675,30 +675,14 @@ mod tests {
     //! (rapier's own `PhysicsWorld::step` allocates about ten times a step inside its pipeline;
     //! that is not ours to change).
 
-    use std::alloc::{GlobalAlloc, Layout, System};
-    use std::sync::atomic::{AtomicUsize, Ordering};
-
+    use prehensile_core::allocation_count::{allocations, CountingAllocator};
     use prehensile_core::{shapes, ObjectModel};
 
     use crate::scenarios::held_still;
     use crate::Settings;
 
-    struct Counting;
-
-    static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
-
-    unsafe impl GlobalAlloc for Counting {
-        unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-            unsafe { System.alloc(layout) }
-        }
-        unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-            unsafe { System.dealloc(ptr, layout) }
-        }
-    }
-
     #[global_allocator]
-    static GLOBAL: Counting = Counting;
+    static COUNT: CountingAllocator = CountingAllocator;
 
     #[test]
     fn our_part_of_a_step_allocates_nothing() {
@@ -718,14 +702,14 @@ mod tests {
         sim.step().unwrap();
         let mut ours = 0;
         for _ in 0..100 {
-            let before = ALLOCATIONS.load(Ordering::SeqCst);
+            let before = allocations();
             sim.drive_hands().unwrap();
-            let driven = ALLOCATIONS.load(Ordering::SeqCst);
+            let driven = allocations();
             sim.world.step();
             sim.time += sim.settings.dt;
-            let stepped = ALLOCATIONS.load(Ordering::SeqCst);
+            let stepped = allocations();
             sim.check_step().unwrap();
-            ours += driven - before + ALLOCATIONS.load(Ordering::SeqCst) - stepped;
+            ours += driven - before + allocations() - stepped;
         }
         assert!(
             sim.contacts(0).touching > 0,

@@ -10,7 +10,7 @@
 use std::sync::Arc;
 use std::time::Duration;
 
-use prehensile_core::math::{Point3, Transform};
+use prehensile_core::math::Point3;
 use prehensile_core::search::{default_shoulder, PlannerStatus, SearchParams, SharedPlanner};
 use prehensile_core::{HandModel, ObjectModel};
 use prehensile_formats::SkinnedMesh;
@@ -327,19 +327,7 @@ impl Session {
     /// Per bone, the inverse of its rest frame in the hand frame, 16 numbers column-major (the
     /// skin's inverse bind matrices).
     pub fn rest_inverses(&self) -> Vec<f32> {
-        let hand = self.planner.hand();
-        let identity = vec![Default::default(); hand.bones().len()];
-        hand.pose_transforms(&Transform::identity(), &identity)
-            .iter()
-            .flat_map(|t| {
-                t.inverse()
-                    .to_homogeneous()
-                    .as_slice()
-                    .iter()
-                    .map(|v| *v as f32)
-                    .collect::<Vec<_>>()
-            })
-            .collect()
+        prehensile_formats::inverse_bind_matrices(self.planner.hand())
     }
 
     /// The hand's name (a result's `hand`).
