@@ -72,9 +72,10 @@ pub fn parse_hand_gltf_skinned(
     sidecar: Option<&crate::Sidecar>,
 ) -> Result<(HandModel, SkinnedMesh), FormatError> {
     let err = |e: String| FormatError::new(name, e);
-    if sidecar.is_some_and(|s| !s.tips.is_empty() || !s.close.is_empty() || !s.movements.is_empty())
-    {
-        return Err(err("a skinned hand's sidecar may only name fingers ([fingers]); fingertips come from joints named …tip or …end, movements from the human hand".into()));
+    if sidecar.is_some_and(|s| {
+        !s.tips.is_empty() || !s.close.is_empty() || !s.movements.is_empty() || s.frame.is_some()
+    }) {
+        return Err(err("a skinned hand's sidecar may only name fingers ([fingers]); fingertips come from joints named …tip or …end, movements from the human hand, the frame from the skin".into()));
     }
     let gltf = crate::gltf_accessors::parse_gltf(bytes).map_err(err)?;
     let blob = gltf.blob.clone().unwrap_or_default();

@@ -98,6 +98,39 @@ pub struct Sidecar {
     /// Movement name (`power`, `precision` or a new one) -> what to change in it or give it.
     #[serde(default)]
     pub movements: std::collections::BTreeMap<String, MovementOverride>,
+    /// The hand frame, instead of the derived one.
+    pub frame: Option<FrameOverride>,
+}
+
+/// A sidecar's `[frame]`: the hand frame's axes in the file's palm frame (what `hands --json`
+/// shows as `frame`), for a hand whose fingers or closing direction mislead the derivation.
+#[derive(Debug, Clone, PartialEq, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FrameOverride {
+    /// z: along the fingers.
+    pub fingers_along: [f64; 3],
+    /// y: out of the palm, the side the fingers close toward (made square to z).
+    pub palm_normal: [f64; 3],
+}
+
+impl FrameOverride {
+    /// Unit z and y, y made square to z.
+    fn axes(&self, source: &str) -> Result<(Vec3, Vec3), FormatError> {
+        let err = |what: &str| FormatError::new(source, format!("the sidecar's [frame] {what}"));
+        let (z, y) = (Vec3::from(self.fingers_along), Vec3::from(self.palm_normal));
+        if !(z.iter().chain(y.iter()).all(|v| v.is_finite()) && z.norm() > 1e-9) {
+            return Err(err("needs a finite, non-zero fingers_along"));
+        }
+        let z = z.normalize();
+        let across = y - z * y.dot(&z);
+        if across.norm() <= 1e-6 * y.norm() || across.norm() < 1e-12 {
+            return Err(err(
+                "has a palm_normal along fingers_along (or zero); give one across the fingers",
+            ));
+        }
+        let y = across;
+        Ok((z, y.normalize()))
+    }
 }
 
 /// A sidecar's `[movements.NAME]`: the end angles of named joints (the others keep the derived
@@ -248,31 +281,15 @@ pub fn build_in_hand_frame(
             .map(|finger| world[*finger.bones.last().expect("fingers have bones")] * finger.tip)
             .collect()
     };
-    let (open, closed) = (tips(0.0), tips(1.0));
-    let root = model.bones()[0].rest.translation.vector;
-    let along = open
-        .iter()
-        .fold(Vec3::zeros(), |acc, t| acc + (t.coords - root))
-        / open.len() as f64;
-    let curl = open
-        .iter()
-        .zip(&closed)
-        .fold(Vec3::zeros(), |acc, (a, b)| acc + (b - a));
-    if along.norm() < 1e-9 {
-        return Err(FormatError::new(
+    let (z, y) = match sidecar.and_then(|s| s.frame.as_ref()) {
+        Some(frame) => frame.axes(source)?,
+        None => derived_axes(
+            tips(0.0),
+            tips(1.0),
+            model.bones()[0].rest.translation.vector,
             source,
-            "the fingertips sit on the root; cannot tell which way the fingers point",
-        ));
-    }
-    let z = along.normalize();
-    let y = curl - z * curl.dot(&z);
-    if y.norm() < 1e-9 {
-        return Err(FormatError::new(
-            source,
-            "closing the fingers (every joint to its upper limit) does not move the tips toward a palm side; check the joint limits",
-        ));
-    }
-    let y = y.normalize();
+        )?,
+    };
     let frame = Rotation::from_rotation_matrix(&nalgebra::Rotation3::from_matrix_unchecked(
         nalgebra::Matrix3::from_columns(&[y.cross(&z), y, z]),
     ));
@@ -320,6 +337,40 @@ pub fn build_in_hand_frame(
         o.apply(&mut hand, name, source)?;
     }
     Ok(hand)
+}
+
+/// The hand frame's z (along the fingers: from the root toward the mean open fingertip) and y
+/// (out of the palm: where closing moves the tips, square to z), from the fingertips `open` and
+/// `closed` and the root's position, in the model's frame.
+fn derived_axes(
+    open: Vec<Point3>,
+    closed: Vec<Point3>,
+    root: Vec3,
+    source: &str,
+) -> Result<(Vec3, Vec3), FormatError> {
+    let along = open
+        .iter()
+        .fold(Vec3::zeros(), |acc, t| acc + (t.coords - root))
+        / open.len() as f64;
+    let curl = open
+        .iter()
+        .zip(&closed)
+        .fold(Vec3::zeros(), |acc, (a, b)| acc + (b - a));
+    if along.norm() < 1e-9 {
+        return Err(FormatError::new(
+            source,
+            "the fingertips sit on the root; cannot tell which way the fingers point",
+        ));
+    }
+    let z = along.normalize();
+    let y = curl - z * curl.dot(&z);
+    if y.norm() < 1e-9 {
+        return Err(FormatError::new(
+            source,
+            "closing the fingers (every joint to its upper limit) does not move the tips toward a palm side; check the joint limits",
+        ));
+    }
+    Ok((z, y.normalize()))
 }
 
 /// The file name without folder and extension, to name a hand whose file names none.

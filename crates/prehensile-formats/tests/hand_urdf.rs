@@ -231,3 +231,39 @@ fn a_sidecar_changes_a_derived_movement_and_adds_one() {
         assert!(e.contains(expected), "{text}: {e}");
     }
 }
+
+#[test]
+fn a_sidecar_frame_replaces_the_derived_one() {
+    let dir = std::env::temp_dir().join(format!("prehensile-frame-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let urdf = dir.join("claw.urdf");
+    std::fs::copy(urdf_path(), &urdf).unwrap();
+    let axes = |hand: &prehensile_core::HandModel| {
+        let to_root = hand.bones()[0].rest.rotation.inverse();
+        (to_root * Vec3::z(), to_root * Vec3::y())
+    };
+    let (z, y) = axes(&load_hand(&urdf).unwrap());
+    let sidecar = dir.join("claw.prehensile.toml");
+    let write = |along: Vec3, normal: Vec3| {
+        let f = |v: Vec3| format!("[{}, {}, {}]", v.x, v.y, v.z);
+        std::fs::write(
+            &sidecar,
+            format!("[frame]\nfingers_along = {}\npalm_normal = {}\n", f(along), f(normal)),
+        )
+        .unwrap();
+    };
+    // The frame given turned 20° about the fingers, its normal not yet square to them.
+    let turned = nalgebra::Rotation3::from_axis_angle(&nalgebra::Unit::new_normalize(z), 0.35) * y;
+    write(z * 2.0, turned + z * 0.3);
+    let (z2, y2) = axes(&load_hand(&urdf).unwrap());
+    assert!((z2 - z).norm() < 1e-9, "{z2} vs {z}");
+    assert!((y2 - turned).norm() < 1e-9, "{y2} vs {turned}");
+    for (along, normal, expected) in [
+        (Vec3::zeros(), y, "fingers_along"),
+        (z, z * 3.0, "palm_normal"),
+    ] {
+        write(along, normal);
+        let e = load_hand(&urdf).unwrap_err().to_string();
+        assert!(e.contains(expected) && e.contains("[frame]"), "{e}");
+    }
+}
