@@ -248,7 +248,11 @@ fn a_sidecar_frame_replaces_the_derived_one() {
         let f = |v: Vec3| format!("[{}, {}, {}]", v.x, v.y, v.z);
         std::fs::write(
             &sidecar,
-            format!("[frame]\nfingers_along = {}\npalm_normal = {}\n", f(along), f(normal)),
+            format!(
+                "[frame]\nfingers_along = {}\npalm_normal = {}\n",
+                f(along),
+                f(normal)
+            ),
         )
         .unwrap();
     };
