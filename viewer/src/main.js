@@ -112,6 +112,7 @@ async function main() {
     objectGroup.clear();
     objectGroup.add(handGroup, boneGroup);
     buildSkin(session);
+    state.handName = session.hand_name();
     // A skinned hand is drawn as its mesh; its capsules on demand.
     $('capsules').checked = !state.skinned;
     objectGroup.position.set(0, 0, 0);
@@ -218,7 +219,7 @@ async function main() {
     handGroup.traverse((o) => o.geometry?.dispose());
     handGroup.clear();
     // The skin is this session's hand's: a saved result of another hand shows its capsules.
-    const skinFits = skinned && r.bones.length === skinned.bones.length && r.hand === state.session?.hand_name();
+    const skinFits = skinned && r.bones.length === skinned.bones.length && r.hand === state.handName;
     if (skinned) skinned.mesh.visible = Boolean(skinFits);
     if (skinFits) {
       r.bones.forEach((b, k) => {

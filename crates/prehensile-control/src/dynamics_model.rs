@@ -63,8 +63,12 @@ pub struct DynamicsModel {
 /// [`DynamicsModel::data`] and reuse it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DynamicsData {
-    /// Per link, rotation from the parent's frame to the link's at the last pose.
+    /// Per link, rotation from the parent's frame to the link's at the pose `placed_at`.
     pub(crate) to_bone: Vec<Matrix3<f64>>,
+    /// The pose `to_bone` was computed at (NaN before the first): the algorithms called one
+    /// after another at one pose (the controller's outboard inertia and compensation, forward
+    /// dynamics' bias and mass matrix) turn the links once.
+    placed_at: Vec<f64>,
     /// Per link: angular velocity, angular acceleration, linear acceleration (own frame).
     pub(crate) velocity: Vec<[Vec3; 3]>,
     /// Per link: force and moment carried to the parent (own frame).
@@ -168,6 +172,7 @@ impl DynamicsModel {
         let n = self.links.len();
         DynamicsData {
             to_bone: vec![Matrix3::identity(); n],
+            placed_at: vec![f64::NAN; self.dof_count],
             velocity: vec![[Vec3::zeros(); 3]; n],
             wrench: vec![[Vec3::zeros(); 2]; n],
             composite: vec![BodyInertia::zero(); n],
@@ -192,6 +197,9 @@ impl DynamicsModel {
     /// Checks `q` and writes every link's rotation from its parent at that pose.
     pub(crate) fn place(&self, data: &mut DynamicsData, q: &[f64]) -> Result<(), DynamicsError> {
         self.check(&[("q", q)])?;
+        if data.placed_at == q {
+            return Ok(());
+        }
         let to = |r: Rotation| r.to_rotation_matrix().into_inner().transpose();
         for (link, to_bone) in self.links.iter().zip(&mut data.to_bone) {
             *to_bone = match &link.turn {
@@ -204,6 +212,7 @@ impl DynamicsModel {
                 }
             };
         }
+        data.placed_at.copy_from_slice(q);
         Ok(())
     }
 

@@ -352,7 +352,7 @@ impl SkinVertices {
 
     /// The mesh in the hand frame, weighted to `hand`'s bones (a fingertip joint gives its
     /// weight to its bone).
-    fn in_hand(&self, hand: &HandModel, skeleton: &Skeleton, frame: &HandFrame) -> SkinnedMesh {
+    fn in_hand(self, hand: &HandModel, skeleton: &Skeleton, frame: &HandFrame) -> SkinnedMesh {
         let bone_of: Vec<u16> = (0..skeleton.names.len())
             .map(|j| {
                 let owner = if skeleton.tip[j] {
@@ -371,7 +371,7 @@ impl SkinVertices {
                 .push(j.map(|k| bone_of.get(k as usize).copied().unwrap_or(0)));
             skinned.weights.push(*w);
         }
-        skinned.triangles = self.triangles.clone();
+        skinned.triangles = self.triangles;
         skinned
     }
 }

@@ -128,8 +128,7 @@ impl FrameOverride {
                 "has a palm_normal along fingers_along (or zero); give one across the fingers",
             ));
         }
-        let y = across;
-        Ok((z, y.normalize()))
+        Ok((z, across.normalize()))
     }
 }
 
@@ -157,6 +156,7 @@ impl MovementOverride {
         let existing = hand.movement(name);
         let mut end =
             existing.map_or_else(|| vec![0.0; hand.dof_count()], |m| m.end_angles().to_vec());
+        let limits = hand.dof_limits();
         for (joint, angle) in &self.end {
             let k = hand
                 .dof_names()
@@ -167,7 +167,7 @@ impl MovementOverride {
                         "names joint '{joint}', which the hand does not have"
                     ))
                 })?;
-            let [lo, hi] = hand.dof_limits()[k];
+            let [lo, hi] = limits[k];
             if !(angle.is_finite() && (lo - 1e-9..=hi + 1e-9).contains(angle)) {
                 return Err(err(format!(
                     "gives joint '{joint}' the end angle {angle}, outside its limits [{lo}, {hi}] (radians)"
