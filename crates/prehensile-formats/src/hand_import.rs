@@ -46,28 +46,31 @@ pub fn name_fingers(parts: &mut HandParts) {
         return;
     };
     let root = root.name.clone();
-    let child_of = |parts: &HandParts, name: &str| -> Option<String> {
-        parts
-            .bones
-            .iter()
-            .find(|b| b.parent.as_deref() == Some(name))
-            .map(|b| b.name.clone())
-    };
-    for i in 0..parts.bones.len() {
-        if parts.bones[i].parent.as_deref() != Some(root.as_str()) {
-            continue;
+    // Each bone's first child, indexed once: a crafted chain of thousands of bones stays linear.
+    let mut first_child: std::collections::HashMap<&str, usize> = Default::default();
+    for (k, b) in parts.bones.iter().enumerate() {
+        if let Some(p) = &b.parent {
+            first_child.entry(p.as_str()).or_insert(k);
         }
-        let mut at = Some(parts.bones[i].name.clone());
-        let mut finger = None;
-        // A chain visits each bone at most once: names are unique and parents form a tree.
-        for _ in 0..parts.bones.len() {
-            let Some(name) = at else { break };
-            finger = finger_name(&name);
-            if finger.is_some() {
-                break;
+    }
+    let fingers: Vec<(usize, Option<&str>)> = (0..parts.bones.len())
+        .filter(|&i| parts.bones[i].parent.as_deref() == Some(root.as_str()))
+        .map(|i| {
+            let mut at = Some(i);
+            let mut finger = None;
+            // A chain visits each bone at most once: names are unique, parents form a tree.
+            for _ in 0..parts.bones.len() {
+                let Some(k) = at else { break };
+                finger = finger_name(&parts.bones[k].name);
+                if finger.is_some() {
+                    break;
+                }
+                at = first_child.get(parts.bones[k].name.as_str()).copied();
             }
-            at = child_of(parts, &name);
-        }
+            (i, finger)
+        })
+        .collect();
+    for (i, finger) in fingers {
         parts.bones[i].finger = finger.map(str::to_string);
     }
 }

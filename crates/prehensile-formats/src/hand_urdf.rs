@@ -85,22 +85,18 @@ pub fn parse_hand_urdf_with(
         .iter()
         .map(|l| bones.remove(l).expect("every link is a bone"))
         .collect();
-    // Where each bone's children's joints are, in its frame.
-    let ends: Vec<Vec<Point3>> = parts
-        .bones
-        .iter()
-        .map(|b| {
-            parts
-                .bones
-                .iter()
-                .filter(|c| c.parent.as_deref() == Some(b.name.as_str()))
-                .map(|c| Point3::from(c.rest.translation.vector))
-                .collect()
-        })
-        .collect();
-    for (part, ends) in parts.bones.iter_mut().zip(&ends) {
+    // Where each bone's children's joints are, in its frame (indexed once: linear in the links).
+    let mut ends: HashMap<String, Vec<Point3>> = HashMap::new();
+    for b in &parts.bones {
+        if let Some(p) = &b.parent {
+            ends.entry(p.clone())
+                .or_default()
+                .push(Point3::from(b.rest.translation.vector));
+        }
+    }
+    for part in parts.bones.iter_mut() {
         let link = links.remove(&part.name).expect("every bone is a link");
-        link_shapes(part, link, ends);
+        link_shapes(part, link, ends.get(&part.name).map_or(&[], Vec::as_slice));
     }
     name_fingers(&mut parts);
     build_in_hand_frame(parts, source, sidecar)
