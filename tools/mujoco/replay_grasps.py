@@ -181,9 +181,9 @@ def replay(result, mesh_path):
     return outcomes
 
 
-def search(obj, movement, seed, out):
+def search(obj, movement, seed, out, extra):
     p = subprocess.run(["./target/release/prehensile", "grasp", "--hand", HAND, "--object", obj,
-                        "--movement", movement, "--seed", str(seed), "--out", out],
+                        "--movement", movement, "--seed", str(seed), "--out", out] + extra,
                        capture_output=True, text=True)
     return p.returncode
 
@@ -204,7 +204,9 @@ def main():
     ap.add_argument("--objects", required=True, help="folder of the built-in objects as OBJ")
     ap.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 3])
     ap.add_argument("--movements", nargs="+", default=["power", "precision", "close"])
-    ap.add_argument("--validity", default="holds")
+    ap.add_argument("--grasp-args", default="",
+                    help="more options for `prehensile grasp`, e.g. '--weights 5,1,0,1,2'")
+    ap.add_argument("--keep", help="folder to keep each result JSON with its MuJoCo outcome in")
     args = ap.parse_args()
     total = held6 = held5 = gravity = 0
     rows = []
@@ -213,13 +215,19 @@ def main():
             for movement in args.movements:
                 for seed in args.seeds:
                     out = os.path.join(tmp, "r.json")
-                    code = search(obj, movement, seed, out)
+                    code = search(obj, movement, seed, out, args.grasp_args.split())
                     if code != 0:
                         rows.append((obj, movement, seed, "no valid grasp"))
                         continue
                     result = json.load(open(out))
                     outcomes = replay(result, mesh)
                     n = sum(o["held"] for o in outcomes)
+                    if args.keep:
+                        os.makedirs(args.keep, exist_ok=True)
+                        result["mujoco"] = outcomes
+                        name = f"{obj.split('/')[-1].split('.')[0]}_{movement}_{seed}.json"
+                        with open(os.path.join(args.keep, name), "w") as f:
+                            json.dump(result, f)
                     total += 1
                     held6 += n == 6
                     held5 += n >= 5
