@@ -43,6 +43,9 @@ fn counts(hand: &HandModel, object: &ObjectModel, p: &SearchParams) -> (f64, f64
             SearchParams { seed, ..p.clone() },
         )
         .unwrap();
+        while planner.restarting() {
+            planner.slice();
+        }
         let before = planner.stats();
         for _ in 0..4 {
             planner.step();
@@ -85,37 +88,58 @@ fn bench(c: &mut Criterion) {
             kind.poses(),
             kind.poses() as u32 * 24 * (v + n)
         );
-        let mut seed = 0;
-        group.bench_function(format!("{name}_P{}_v{v}_N{n}", kind.poses()), |b| {
-            b.iter_batched(
-                || {
-                    seed += 1;
-                    GraspPlanner::new(
-                        &hand,
-                        &object,
-                        movement,
-                        Point3::from(SHOULDER),
-                        params(kind, step_for_v(v), n, seed),
-                    )
-                    .unwrap()
-                },
-                |mut planner| planner.step(),
-                BatchSize::SmallInput,
-            )
-        });
+        // Row c also on two threads (the step's candidates shared out on rayon's pool).
+        let threads: &[usize] = if name == "c" { &[1, 2] } else { &[1] };
+        for &threads in threads {
+            let label = match threads {
+                1 => format!("{name}_P{}_v{v}_N{n}", kind.poses()),
+                t => format!("{name}_P{}_v{v}_N{n}_threads{t}", kind.poses()),
+            };
+            let mut seed = 0;
+            group.bench_function(label, |b| {
+                b.iter_batched(
+                    || {
+                        seed += 1;
+                        let p = SearchParams {
+                            threads,
+                            ..params(kind, step_for_v(v), n, seed)
+                        };
+                        let mut planner =
+                            GraspPlanner::new(&hand, &object, movement, Point3::from(SHOULDER), p)
+                                .unwrap();
+                        // The start (initial approximation) is setup, not a step: the planner
+                        // does it in slices of its first steps, so finish it here.
+                        while planner.restarting() {
+                            planner.slice();
+                        }
+                        planner
+                    },
+                    |mut planner| planner.step(),
+                    BatchSize::SmallInput,
+                )
+            });
+        }
     }
     group.finish();
 
     let mut group = c.benchmark_group("whole_grasp");
     let sphere =
         ObjectModel::new("sphere", shapes::builtin_object("sphere").unwrap(), None).unwrap();
-    for (label, obj) in [("torus16k", &object), ("sphere", &sphere)] {
+    for ((label, obj), threads) in [("torus16k", &object), ("sphere", &sphere)]
+        .into_iter()
+        .flat_map(|o| [(o, 1), (o, 2)])
+    {
         let mut seed = 0;
-        group.bench_function(format!("human_power_{label}_start_to_converged"), |b| {
+        let name = match threads {
+            1 => format!("human_power_{label}_start_to_converged"),
+            t => format!("human_power_{label}_start_to_converged_threads{t}"),
+        };
+        group.bench_function(name, |b| {
             b.iter(|| {
                 seed += 1;
                 let p = SearchParams {
                     seed,
+                    threads,
                     ..Default::default()
                 };
                 let mut planner =

@@ -4,6 +4,7 @@
 use std::time::Duration;
 
 // `std::time::Instant` panics in the browser (wasm32); web-time is the same API on every target.
+use rayon::prelude::*;
 use web_time::Instant;
 
 use crate::finger_closing::ClosingParams;
@@ -65,7 +66,9 @@ pub struct SearchParams {
     pub max_steps: u32,
     /// Fingers that must touch for a movement without named contact fingers.
     pub min_fingers: usize,
-    /// Threads evaluating a step's candidates, each with its own workspace.
+    /// Threads evaluating a step's candidates, each with its own workspace, on rayon's pool (the
+    /// global one, or the one the call runs in). 1 evaluates on the calling thread, as a game
+    /// loop or the browser needs.
     pub threads: usize,
     /// Which grasps are valid: ones that hold (default) or the thesis's rules.
     pub validity: ValidityRule,
@@ -483,21 +486,19 @@ impl<'a> GraspPlanner<'a> {
             }
             return;
         }
+        // Each workspace takes a run of consecutive candidates on rayon's pool (threads kept
+        // between steps, so a step's few candidates are worth sharing out); results land by index,
+        // so the outcome does not depend on the thread count.
         let per = n.div_ceil(threads);
-        std::thread::scope(|scope| {
-            for ((ws, rotations), slots) in self
-                .workspaces
-                .iter_mut()
-                .zip(candidates.chunks(per))
-                .zip(results.chunks_mut(per))
-            {
-                scope.spawn(move || {
-                    for (slot, r) in slots.iter_mut().zip(rotations) {
-                        *slot = Some(ctx.evaluate(r, ws));
-                    }
-                });
-            }
-        });
+        self.workspaces
+            .par_iter_mut()
+            .zip(candidates.par_chunks(per))
+            .zip(results.par_chunks_mut(per))
+            .for_each(|((ws, rotations), slots)| {
+                for (slot, r) in slots.iter_mut().zip(rotations) {
+                    *slot = Some(ctx.evaluate(r, ws));
+                }
+            });
     }
 
     /// Steps until the time budget is spent or the search stops.
