@@ -3,8 +3,8 @@
 
 use std::time::Duration;
 
-// `std::time::Instant` panics in the browser (wasm32); web-time is the same API on every target.
 use rayon::prelude::*;
+// `std::time::Instant` panics in the browser (wasm32); web-time is the same API on every target.
 use web_time::Instant;
 
 use crate::finger_closing::ClosingParams;
@@ -486,9 +486,9 @@ impl<'a> GraspPlanner<'a> {
             }
             return;
         }
-        // Each workspace takes a run of consecutive candidates on rayon's pool (threads kept
-        // between steps, so a step's few candidates are worth sharing out); results land by index,
-        // so the outcome does not depend on the thread count.
+        // Each workspace takes a run of consecutive candidates on rayon's pool (its threads live
+        // between steps instead of being started for each); results land by index, so the
+        // outcome does not depend on the thread count.
         let per = n.div_ceil(threads);
         self.workspaces
             .par_iter_mut()
