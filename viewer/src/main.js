@@ -1,30 +1,36 @@
-// The grasp search live in the browser: the prehensile core compiled to WebAssembly runs a slice
-// of the anytime planner inside every animation frame (thesis §5.1, §6.1.2) and three.js draws
-// the best pose so far. `window.prehensile` exposes the state for tests and the console.
+// The grasp search live in the browser: the prehensile core compiled to WebAssembly runs the
+// anytime planner in a Web Worker (search_worker.js), a slice of the user's budget at a time
+// (thesis §5.1, §6.1.2), and three.js draws the best pose so far on the page's own thread, so the
+// page never waits for the search. `window.prehensile` exposes the state for tests and the console.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
 import { TransformControls } from 'three/examples/jsm/controls/TransformControls.js';
 import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
-import init, { Session, builtin_hands, builtin_objects } from '../pkg/prehensile_wasm.js';
-// The core inlined as bytes (esbuild's binary loader): the page then runs from a folder opened
-// as file:// as well as from `prehensile view`, with nothing to fetch.
-import wasmBytes from '../pkg/prehensile_wasm_bg.wasm';
+// The worker's bundle (the core inlined as bytes) as text, started from a blob: the page then
+// runs from a folder opened as file:// as well as from `prehensile view`, with nothing to fetch.
+import workerSource from '../build/search_worker.txt';
 
 const $ = (id) => document.getElementById(id);
-// frameTimes: the search's milliseconds in each frame since the last (re)start, to show the
-// per-frame budget is kept.
+// sliceTimes: the worker's milliseconds per search slice since the last (re)start; frameTimes:
+// the page's own work per animation frame (applying the latest pose and drawing), which the
+// search no longer adds to.
 // playback: a saved animation (`grasp --glb`, `simulate --glb`) playing instead of the search;
 // run: a simulation report (`simulate --out`) whose state-machine timeline labels it.
-const state = { status: 'loading', result: null, frameMs: 0, frameTimes: [], restarts: 0, error: null, session: null, playback: null, run: null };
+const state = { status: 'loading', result: null, sliceTimes: [], frameTimes: [], restarts: 0, error: null, shoulder: null, playback: null, run: null };
 // Where the hand and the object come from: a built-in name (bytes null) or a file the user gave.
 const sources = { hand: { name: 'human', bytes: null }, object: { name: 'mug', bytes: null } };
 window.prehensile = { state };
 
 // Everything runs once the core is compiled (a classic script, for file://: no top-level await).
 async function main() {
-  await init({ module_or_path: wasmBytes });
-
-  for (const [id, names] of [['hand', builtin_hands()], ['object', builtin_objects()]]) {
+  const worker = new Worker(URL.createObjectURL(new Blob([workerSource], { type: 'text/javascript' })));
+  // The worker's first message: the core started, with its built-in hands and objects.
+  const builtins = await new Promise((resolve, reject) => {
+    worker.onmessage = ({ data }) => (data.type === 'ready' ? resolve(data) : reject(new Error(data.message)));
+    worker.onerror = (e) => reject(new Error(`the search worker did not start: ${e.message}`));
+  });
+  worker.onerror = (e) => showError(`the search worker: ${e.message}`);
+  for (const [id, names] of [['hand', builtins.hands], ['object', builtins.objects]]) {
     for (const name of names.split(',')) $(id).append(new Option(name, name));
   }
   $('object').value = 'mug';
@@ -85,62 +91,90 @@ async function main() {
     $('error').textContent = state.error;
   }
 
-  function start(movement = $('movement').value) {
-    let session;
-    try {
-      const none = new Uint8Array();
-      const includes = sources.hand.includes ?? [];
-      const joined = new Uint8Array(includes.reduce((n, f) => n + f.bytes.length, 0));
-      includes.reduce((at, f) => { joined.set(f.bytes, at); return at + f.bytes.length; }, 0);
-      session = Session.open(sources.hand.name, sources.hand.bytes ?? none,
-        includes.map((f) => f.name).join('\n'), joined, new Uint32Array(includes.map((f) => f.bytes.length)),
-        sources.object.name, sources.object.bytes ?? none, movement, BigInt($('seed').value || 1));
-    } catch (e) {
-      showError(e); // the page keeps what it had: the last session goes on being shown
-      return;
-    }
-    state.session?.free();
-    state.session = session;
+  // Opens the hand and object in the worker; `showOpened` shows them once it has. With `saved`
+  // (a saved result of built-in hand and object), the session is opened to draw the object, and
+  // the saved result is shown instead of a search.
+  let pendingSaved = null;
+  // An open in progress: when it was asked for and how many frames the page drew since.
+  let opening = null;
+  function start(movement = $('movement').value, saved = null) {
+    pendingSaved = saved;
+    opening = { at: performance.now(), frames: 0 };
+    $('note').textContent = `opening ${sources.hand.name} and ${sources.object.name}…`;
+    worker.postMessage({
+      type: 'open', hand: sources.hand, object: sources.object, movement,
+      seed: Number($('seed').value) || 1, search: !saved,
+    });
+  }
+
+  function showOpened(m) {
+    state.opened = { ms: performance.now() - opening.at, frames: opening.frames };
+    opening = null;
+    $('note').textContent = '';
     stopPlayback();
     state.result = null;
     state.restarts = 0;
-    state.frameTimes = [];
+    state.sliceTimes = [];
     $('error').textContent = '';
     state.error = null;
-    $('movement').replaceChildren(...session.hand_movements().split(',').map((m) => new Option(m, m)));
-    $('movement').value = session.movement();
+    $('movement').replaceChildren(...m.movements.split(',').map((name) => new Option(name, name)));
+    $('movement').value = m.movement;
     objectGroup.clear();
     objectGroup.add(handGroup, boneGroup);
-    buildSkin(session);
-    state.handName = session.hand_name();
+    buildSkin(m);
+    state.handName = m.handName;
     // A skinned hand is drawn as its mesh; its capsules on demand.
     $('capsules').checked = !state.skinned;
     objectGroup.position.set(0, 0, 0);
     const geometry = new THREE.BufferGeometry();
-    geometry.setAttribute('position', new THREE.BufferAttribute(state.session.object_positions(), 3));
-    geometry.setIndex(new THREE.BufferAttribute(state.session.object_indices(), 1));
+    geometry.setAttribute('position', new THREE.BufferAttribute(m.objectPositions, 3));
+    geometry.setIndex(new THREE.BufferAttribute(m.objectIndices, 1));
     geometry.computeVertexNormals();
     objectGroup.add(new THREE.Mesh(geometry, new THREE.MeshStandardMaterial({ color: 0x9aa5b1, roughness: 0.5, metalness: 0.1 })));
-    const [x, y, z] = state.session.shoulder();
+    state.shoulder = m.shoulder;
+    const [x, y, z] = m.shoulder;
     shoulderBall.position.set(x, y, z);
     drag.attach(objectGroup);
-    state.status = 'searching';
+    state.status = m.status;
+    if (pendingSaved) showSaved(pendingSaved);
+    pendingSaved = null;
   }
+
+  // What the worker says: a session opened, a pose found, a slice done, a drag answered, an error.
+  let latest = null; // the newest result's JSON, drawn at the next animation frame
+  worker.onmessage = ({ data: m }) => {
+    if (m.type === 'opened') showOpened(m);
+    else if (m.type === 'error') {
+      showError(m.message);
+      if (m.during === 'open') {
+        opening = null; // a refused file leaves the last session on
+        $('note').textContent = '';
+      } else state.status = 'error';
+    } else if (state.status === 'saved result' || state.status === 'playing') {
+      // a result or slice of a search the page no longer shows
+    } else if (m.type === 'shoulder') {
+      if (m.restarted) {
+        state.restarts += 1;
+        state.sliceTimes = [];
+      }
+      state.status = 'searching';
+    } else if (m.type === 'result' || m.type === 'slice') {
+      state.sliceTimes.push(m.sliceMs);
+      if (m.type === 'result') {
+        state.status = m.status;
+        latest = m.json;
+      }
+    }
+  };
+  $('budget').addEventListener('change', () => worker.postMessage({ type: 'budget', ms: Math.max(0.5, Number($('budget').value) || 4) }));
 
   // Dragging moves the shoulder relative to the object: the planner sees the shoulder in the
   // object's frame, and restarts when the reach direction turned too far.
   function moved() {
-    if (!state.session) return;
+    if (!state.shoulder || state.status === 'saved result' || state.status === 'playing') return;
     const p = shoulderBall.position.clone().sub(objectGroup.position);
-    try {
-      if (state.session.set_shoulder(p.x, p.y, p.z)) {
-        state.restarts += 1;
-        state.frameTimes = [];
-      }
-      state.status = 'searching';
-    } catch (e) {
-      showError(e);
-    }
+    state.shoulder = [p.x, p.y, p.z];
+    worker.postMessage({ type: 'shoulder', position: state.shoulder });
   }
   // How well the skinned mesh follows the hand: the median distance, metres, from its posed
   // vertices to the surface of the nearest of the result's capsules (object frame), over every
@@ -181,25 +215,26 @@ async function main() {
     return mesh;
   }
 
-  // The session's skinned mesh, if its hand has one: the core's rest vertices, bone weights and
-  // inverse rest frames, bound to one three.js bone per hand bone.
-  function buildSkin(session) {
+  // The session's skinned mesh, if its hand has one (`m`: the worker's `opened` message): the
+  // core's rest vertices, bone weights and inverse rest frames, bound to one three.js bone per
+  // hand bone.
+  function buildSkin(m) {
     if (skinned) {
       scene.remove(skinned.mesh);
       skinned.mesh.geometry.dispose();
       skinned = null;
     }
     boneGroup.clear();
-    const positions = session.skin_positions();
+    const positions = m.skinPositions;
     state.skinned = positions.length > 0;
     if (!state.skinned) return;
     const geometry = new THREE.BufferGeometry();
     geometry.setAttribute('position', new THREE.BufferAttribute(positions, 3));
-    geometry.setAttribute('skinIndex', new THREE.Uint16BufferAttribute(session.skin_joints(), 4));
-    geometry.setAttribute('skinWeight', new THREE.BufferAttribute(session.skin_weights(), 4));
-    geometry.setIndex(new THREE.BufferAttribute(session.skin_indices(), 1));
+    geometry.setAttribute('skinIndex', new THREE.Uint16BufferAttribute(m.skinJoints, 4));
+    geometry.setAttribute('skinWeight', new THREE.BufferAttribute(m.skinWeights, 4));
+    geometry.setIndex(new THREE.BufferAttribute(m.skinIndices, 1));
     geometry.computeVertexNormals();
-    const inverses = session.rest_inverses();
+    const inverses = m.restInverses;
     const bones = [];
     const boneInverses = [];
     for (let k = 0; k < inverses.length / 16; k++) {
@@ -261,44 +296,36 @@ async function main() {
       ['ε (Ferrari–Canny)', r.stability.epsilon.toFixed(4)],
       ...Object.entries(r.terms).map(([k, v]) => [k, v.toFixed(4)]),
       ['steps / poses', `${r.stats.steps} / ${r.stats.evaluations}`],
-      ['search per frame', `${state.frameMs.toFixed(2)} ms (most ${Math.max(0, ...state.frameTimes).toFixed(2)} ms over ${state.frameTimes.length} frames)`],
+      ['setup', `${state.opened.ms.toFixed(0)} ms in the worker, the page drawing ${state.opened.frames} frames meanwhile`],
+      ['search per slice', `${median(state.sliceTimes).toFixed(2)} ms median (most ${Math.max(0, ...state.sliceTimes).toFixed(2)} ms over ${state.sliceTimes.length} slices, in a worker)`],
+      ['page per frame', `${median(state.frameTimes.slice(-120)).toFixed(2)} ms median over the last ${Math.min(120, state.frameTimes.length)} frames`],
     ];
     $('info').innerHTML = rows.map(([k, v]) => `<tr><td>${k}</td><td>${v}</td></tr>`).join('');
   }
 
-  let lastProgress = '';
+  const median = (xs) => (xs.length ? [...xs].sort((x, y) => x - y)[Math.floor(xs.length / 2)] : 0);
+
+  // Each animation frame: the newest pose from the worker, if one came, then the picture. The
+  // page's own time per frame is kept in frameTimes.
   function frame() {
     requestAnimationFrame(frame);
-    const s = state.session;
-    if (s && state.status === 'searching') {
-      const budget = Math.max(0.5, Number($('budget').value) || 4);
-      const t0 = performance.now();
+    const t0 = performance.now();
+    if (opening) opening.frames += 1;
+    if (latest !== null) {
       try {
-        state.status = s.run_for(budget);
+        state.result = JSON.parse(latest);
+        drawResult(state.result);
+        showInfo(state.result);
       } catch (e) {
         showError(e);
-        state.status = 'error';
       }
-      state.frameMs = performance.now() - t0;
-      state.frameTimes.push(state.frameMs);
-      // The result (posing the hand, its contacts) only when the search moved: steps and
-      // evaluations; a restart's slices change neither until its start is evaluated.
-      const progress = state.status === 'error' ? lastProgress : s.progress();
-      if (progress !== lastProgress || state.status !== 'searching') {
-        lastProgress = progress;
-        try {
-          state.result = JSON.parse(s.result_json());
-          drawResult(state.result);
-          showInfo(state.result);
-        } catch (e) {
-          showError(e);
-          state.status = 'error';
-        }
-      }
+      latest = null;
     }
     if (state.playback) advancePlayback();
     orbit.update();
     renderer.render(scene, camera);
+    state.frameTimes.push(performance.now() - t0);
+    if (state.frameTimes.length > 2000) state.frameTimes.splice(0, 1000);
   }
 
   // Files the user gave, by name: they join the hand and object lists, so that the lists always
@@ -382,17 +409,16 @@ async function main() {
     }
     const schema = String(doc?.schema ?? '');
     if (schema.startsWith('prehensile.grasp/')) {
-      if (builtin_objects().split(',').includes(doc.object) && builtin_hands().split(',').includes(doc.hand)) {
+      if (builtins.objects.split(',').includes(doc.object) && builtins.hands.split(',').includes(doc.hand)) {
         sources.hand = { name: doc.hand, bytes: null };
         sources.object = { name: doc.object, bytes: null };
         $('hand').value = doc.hand;
         $('object').value = doc.object;
-        start(doc.movement);
+        start(doc.movement, doc);
+      } else {
+        worker.postMessage({ type: 'pause' });
+        showSaved(doc);
       }
-      state.status = 'saved result';
-      state.result = doc;
-      drawResult(doc);
-      showInfo(doc);
       return true;
     }
     if (schema.startsWith('prehensile.run/')) {
@@ -402,6 +428,15 @@ async function main() {
     }
     showError(`${name}: schema '${schema}' is neither a grasp result (prehensile.grasp/…) nor a simulation run (prehensile.run/…)`);
     return false;
+  }
+
+  // Shows a saved result as it was found, the search stopped.
+  function showSaved(doc) {
+    latest = null;
+    state.status = 'saved result';
+    state.result = doc;
+    drawResult(doc);
+    showInfo(doc);
   }
 
   // Whether a GLB's JSON chunk declares a skin: a rigged hand rather than an object's mesh.
@@ -428,6 +463,7 @@ async function main() {
     }
     if (!gltf.animations.length) return false;
     stopPlayback();
+    worker.postMessage({ type: 'pause' });
     state.status = 'playing';
     objectGroup.visible = false;
     if (skinned) skinned.mesh.visible = false;

@@ -52,16 +52,19 @@ try {
   // re-evaluates the current pose.)
   await page.evaluate(() => window.prehensile.moveObject(0.005, 0, 0));
   await page.evaluate(() => {
-    const [x, y, z] = window.prehensile.state.session.shoulder();
+    const [x, y, z] = window.prehensile.state.shoulder;
     window.prehensile.moveShoulder(-x, -y, z);
   });
   await page.waitForFunction(() => window.prehensile.state.restarts >= 1, null, { timeout: 10_000 });
   await page.waitForFunction(() => window.prehensile.state.status !== 'searching' && window.prehensile.state.result?.valid === true, null, { timeout: 120_000 });
   const second = await page.evaluate(() => window.prehensile.state);
-  // Reported, not asserted (timings are for benchmarks): the budget is the page's default 4 ms.
-  const times = [...second.frameTimes].sort((a, b) => a - b);
-  const median = times[Math.floor(times.length / 2)];
-  console.log(`re-grasped after the drag (${second.restarts} restart): ${second.result.fingers_touching.join(', ')}; search per frame over the ${times.length} frames since the restart: median ${median.toFixed(2)} ms, most ${times[times.length - 1].toFixed(2)} ms`);
+  // Reported, not asserted (timings are for benchmarks): the slice is the page's default 4 ms.
+  const sorted = (xs) => [...xs].sort((a, b) => a - b);
+  const slices = sorted(second.sliceTimes);
+  const frames = sorted(second.frameTimes);
+  console.log(`re-grasped after the drag (${second.restarts} restart): ${second.result.fingers_touching.join(', ')}; ` +
+    `the worker's search slices since the restart: median ${slices[slices.length >> 1].toFixed(2)} ms, most ${slices[slices.length - 1].toFixed(2)} ms over ${slices.length}; ` +
+    `the page's work per frame: median ${frames[frames.length >> 1].toFixed(2)} ms`);
   assert.notDeepStrictEqual(second.result.wrist, first.wrist);
   await page.screenshot({ path: `${out}/viewer-regrasp.png` });
   assert.ok((await colours()) > 50);
@@ -79,6 +82,33 @@ try {
   await page.waitForFunction(() => window.prehensile.state.result?.object === 'cube.obj' && window.prehensile.state.result.valid, null, { timeout: 120_000 });
   assert.strictEqual(await page.evaluate(() => document.getElementById('object').value), 'cube.obj', 'the list shows the file searched');
   console.log('a dropped cube is grasped');
+  // A big mesh (a 262,144-triangle sphere, binary STL): its setup and its slow first candidates
+  // run in the worker, and the page keeps drawing frames meanwhile. (Before the search had a
+  // worker, opening it blocked the page's thread for seconds: no frame at all until it opened.)
+  const bigSphere = (() => {
+    const rings = 256, segments = 512, r = 0.04;
+    const at = (i, j) => {
+      const t = (Math.PI * i) / rings, p = (2 * Math.PI * j) / segments;
+      return [r * Math.sin(t) * Math.cos(p), r * Math.sin(t) * Math.sin(p), r * Math.cos(t)];
+    };
+    const triangles = [];
+    for (let i = 0; i < rings; i++) {
+      for (let j = 0; j < segments; j++) {
+        const [a, b, c, d] = [at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)];
+        triangles.push([a, b, c], [a, c, d]);
+      }
+    }
+    const stl = Buffer.alloc(84 + 50 * triangles.length);
+    stl.writeUInt32LE(triangles.length, 80);
+    triangles.forEach((t, k) => t.flat().forEach((x, m) => stl.writeFloatLE(x, 84 + 50 * k + 12 + 4 * m)));
+    return stl;
+  })();
+  await page.setInputFiles('#file', { name: 'big-sphere.stl', mimeType: 'application/octet-stream', buffer: bigSphere });
+  await page.waitForFunction(() => window.prehensile.state.result?.object === 'big-sphere.stl', null, { timeout: 120_000 });
+  const opened = await page.evaluate(() => window.prehensile.state.opened);
+  assert.ok(opened.frames >= 3, `the page drew ${opened.frames} frames while the worker opened the big mesh`);
+  const big = await page.evaluate(() => window.prehensile.state.sliceTimes);
+  console.log(`a 262k-triangle mesh opens in the worker in ${opened.ms.toFixed(0)} ms while the page draws ${opened.frames} frames; its first ${big.length} slices: most ${Math.max(...big).toFixed(1)} ms`);
   // An MJCF hand with its include files, dropped together.
   const shadowDir = new URL('../../assets/hands/shadow_hand/', import.meta.url).pathname;
   await page.setInputFiles('#file', ['reach.xml', 'shared.xml', 'shared_asset.xml', 'robot.xml'].map((f) => shadowDir + f));
