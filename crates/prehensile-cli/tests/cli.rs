@@ -131,7 +131,7 @@ fn grasp_writes_a_result_an_independent_program_can_check() {
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     let r: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
-    assert_eq!(r["schema"], "prehensile.grasp/2");
+    assert_eq!(r["schema"], "prehensile.grasp/3");
     assert_eq!(r["valid"], true);
     // A valid grasp holds: force closure with contacts whose normals do not all agree.
     assert_eq!(r["stability"]["force_closure"], true);

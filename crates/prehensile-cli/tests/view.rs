@@ -24,7 +24,7 @@ fn the_viewer_folder_is_served_and_nothing_outside_it() {
     std::fs::write(dist.join("main.js"), "console.log(1)").unwrap();
     std::fs::write(root.join("secret.txt"), "not for the browser").unwrap();
     let result = root.join("saved.json");
-    std::fs::write(&result, r#"{"schema": "prehensile.grasp/2"}"#).unwrap();
+    std::fs::write(&result, r#"{"schema": "prehensile.grasp/3"}"#).unwrap();
     let mut server = Command::new(env!("CARGO_BIN_EXE_prehensile"))
         .args(["view", "--port", "0", "--dir", dist.to_str().unwrap()])
         .arg(&result)
@@ -52,7 +52,7 @@ fn the_viewer_folder_is_served_and_nothing_outside_it() {
         );
         assert_eq!(
             get(port, "/open/0"),
-            (200, br#"{"schema": "prehensile.grasp/2"}"#.to_vec())
+            (200, br#"{"schema": "prehensile.grasp/3"}"#.to_vec())
         );
         assert_eq!(get(port, "/open/1").0, 404);
         assert_eq!(get(port, "/open/../secret.txt").0, 404);

@@ -105,11 +105,13 @@ fn the_shadow_hand_imports_from_its_scene_with_joint_names_and_tendons() {
 fn the_shadow_hand_grasps_a_cylinder() {
     let hand = load_hand(&shadow("reach.xml")).unwrap();
     let object = ObjectModel::new("cylinder", builtin_object("cylinder").unwrap(), None).unwrap();
-    let close = hand.movement("close").unwrap();
+    // Its derived power movement: the generic `close` (the thumb barely turning) found a grasp
+    // with every contact normal within 77° of one direction, no longer valid.
+    let power = hand.movement("power").unwrap();
     let mut planner = GraspPlanner::new(
         &hand,
         &object,
-        close,
+        power,
         Point3::new(-0.35, -0.2, 0.35),
         SearchParams::default(),
     )
@@ -118,6 +120,46 @@ fn the_shadow_hand_grasps_a_cylinder() {
     let result = GraspResult::from_planner(&planner, &mut Workspace::new(&hand));
     assert!(result.valid, "{:?}", result.invalid_reason);
     assert!(result.joints.iter().any(|j| j.name == "robot0:FFJ2"));
+}
+
+#[test]
+fn the_shadow_hands_one_sided_sphere_grasp_is_refused_with_the_reason() {
+    // Its power grasps of the 8 cm sphere put the palm on top and every finger and the thumb on
+    // the upper half: every contact pushes the ball one way, and MuJoCo's replay drops them in
+    // five of six load directions (docs/QUALITY.md).
+    let hand = load_hand(&shadow("reach.xml")).unwrap();
+    let object = ObjectModel::new("sphere", builtin_object("sphere").unwrap(), None).unwrap();
+    let mut planner = GraspPlanner::new(
+        &hand,
+        &object,
+        hand.movement("power").unwrap(),
+        Point3::new(-0.35, -0.2, 0.35),
+        SearchParams::default(),
+    )
+    .unwrap();
+    planner.run_to_end();
+    let result = GraspResult::from_planner(&planner, &mut Workspace::new(&hand));
+    assert!(!result.valid);
+    let reason = result.invalid_reason.unwrap();
+    assert!(
+        reason.contains("every contact pushes the object one way"),
+        "{reason}"
+    );
+    // Under the thesis's rules the same search accepts a grasp.
+    let thesis = SearchParams {
+        validity: prehensile_core::search::ValidityRule::Thesis,
+        ..SearchParams::default()
+    };
+    let mut planner = GraspPlanner::new(
+        &hand,
+        &object,
+        hand.movement("power").unwrap(),
+        Point3::new(-0.35, -0.2, 0.35),
+        thesis,
+    )
+    .unwrap();
+    planner.run_to_end();
+    assert!(planner.best().is_some());
 }
 
 #[test]

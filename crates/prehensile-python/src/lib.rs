@@ -451,7 +451,7 @@ impl GraspResultPy {
         self.hold.as_ref().map(|h| to_python(py, h)).transpose()
     }
 
-    /// The whole result as JSON (`prehensile.grasp/2`, docs/RESULT_SCHEMA.md).
+    /// The whole result as JSON (`prehensile.grasp/3`, docs/RESULT_SCHEMA.md).
     fn to_json(&self) -> PyResult<String> {
         let mut value = serde_json::to_value(&self.result).map_err(error)?;
         if let (Some(h), Some(map)) = (&self.hold, value.as_object_mut()) {

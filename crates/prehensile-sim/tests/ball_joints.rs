@@ -287,21 +287,23 @@ fn every_degree_of_freedom_has_its_joints_limits_in_order() {
 }
 
 #[test]
-fn a_hand_with_only_ball_joints_grasps_lifts_and_carries_the_sphere() {
+fn a_hand_with_only_ball_joints_grasps_lifts_and_carries_the_box() {
     // The whole path: the grasp search closes the ball joints, the example motion and the fitted
-    // controller carry them, and the simulated hand lifts the sphere.
+    // controller carry them, and the simulated hand lifts the box. (Its fingertips meet the
+    // sphere on the near side only, every contact normal within 73° of one direction: no valid
+    // grasp there.)
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
     let hand =
         prehensile_formats::load_hand(&dir.join("../../assets/hands/robot3_ball.toml")).unwrap();
-    let sphere = prehensile_core::ObjectModel::new(
-        "sphere",
-        prehensile_core::shapes::builtin_object("sphere").unwrap(),
+    let object = prehensile_core::ObjectModel::new(
+        "box",
+        prehensile_core::shapes::builtin_object("box").unwrap(),
         None,
     )
     .unwrap();
     let options = prehensile_sim::scenarios::Options {
         hand,
-        objects: vec![sphere],
+        objects: vec![object],
         alpha: 0.5,
         settings: Settings::default(),
         seconds: None,

@@ -1,7 +1,7 @@
 //! The grasp search in the browser: a [`Session`] holds a hand, an object and the anytime
 //! planner of one movement (thesis §5.1, §6.5.6). The viewer's search worker calls `run_for(ms)`
 //! in slices of the user's budget, reads the best pose so far as JSON (the CLI's result schema,
-//! `prehensile.grasp/2`) for the page to draw, and moves the shoulder when the user drags the
+//! `prehensile.grasp/3`) for the page to draw, and moves the shoulder when the user drags the
 //! object or the shoulder: the planner restarts when the hand would have to turn too far.
 //!
 //! The same library and the same seed give the same result as the native build (tested against

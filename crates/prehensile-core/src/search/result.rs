@@ -9,7 +9,7 @@ use super::planner::{GraspPlanner, PlannerStatus, SearchStats};
 use super::quality::{Evaluation, QualityTerms, CONTACT_TOLERANCE};
 
 /// Name and version of the result format.
-pub const RESULT_SCHEMA: &str = "prehensile.grasp/2";
+pub const RESULT_SCHEMA: &str = "prehensile.grasp/3";
 
 /// A rigid pose: position and unit quaternion `[x, y, z, w]`.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]

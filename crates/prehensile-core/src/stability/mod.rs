@@ -8,6 +8,7 @@ pub mod contacts;
 pub mod convex_hull;
 pub mod force_closure;
 pub mod grasp_wrench_space;
+pub mod normal_cap;
 
 pub use contacts::{find_contacts, Contact};
 pub use convex_hull::{ConvexHull, HullError, HullFacet};
@@ -15,6 +16,7 @@ pub use force_closure::{force_closure_margin, ForceClosure};
 pub use grasp_wrench_space::{
     ContactModel, GraspWrenchSpace, Stability, FORCE_CLOSURE_EPSILON, LOAD_DIRECTIONS,
 };
+pub use normal_cap::narrowest_normal_cap;
 
 use crate::hand::HandModel;
 use crate::math::Vec3;

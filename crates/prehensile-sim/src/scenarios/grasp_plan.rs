@@ -30,17 +30,30 @@ pub struct PlannedGrasp {
 /// ([`default_shoulder`]: 35 cm behind, 20 cm aside and 35 cm above the centre of mass, z up), as
 /// `prehensile grasp --movement power` does.
 pub fn plan_grasp(hand: &HandModel, object: &ObjectModel) -> Result<PlannedGrasp, SimError> {
+    plan_grasp_with(hand, object, SearchParams::default())
+}
+
+/// [`plan_grasp`] with the search's parameters (e.g. its validity rule).
+pub fn plan_grasp_with(
+    hand: &HandModel,
+    object: &ObjectModel,
+    params: SearchParams,
+) -> Result<PlannedGrasp, SimError> {
     let movement = hand
         .movement("power")
         .or_else(|| hand.movements().first())
         .ok_or_else(|| SimError::Hand(format!("hand '{}' has no movement", hand.name())))?;
     let hook = object.center_of_mass();
     let shoulder = default_shoulder(hand, &hook, &Vec3::z());
-    let mut planner = GraspPlanner::new(hand, object, movement, shoulder, SearchParams::default())?;
+    let mut planner = GraspPlanner::new(hand, object, movement, shoulder, params)?;
     planner.run_to_end();
     let best = planner.best().cloned().ok_or_else(|| {
+        let why = match &planner.current().validity {
+            Err(reason) => format!(" (the last pose tried: {reason})"),
+            Ok(()) => String::new(),
+        };
         SimError::Object(format!(
-            "no valid {} grasp of '{}' was found for hand '{}'",
+            "no valid {} grasp of '{}' was found for hand '{}'{why}",
             movement.name(),
             object.name(),
             hand.name()

@@ -8,19 +8,28 @@ use prehensile_core::{HandModel, ObjectModel};
 
 use prehensile_control::GraspController;
 
-use super::{grasp_arm, plan_grasp, GraspTimes, PlannedGrasp};
+use prehensile_core::search::{SearchParams, ValidityRule};
+
+use super::{grasp_arm, plan_grasp_with, GraspTimes, PlannedGrasp};
 use crate::simulation::{DistanceTo, HandSetup, Settings, Simulation};
 use crate::SimError;
 
 /// `hand` gripping `object` with grip strength 0.5, stepped with `settings` (whose gravity is
 /// replaced by one pressing the object into the palm), returned 50 ms after the object was let
-/// go into the closed hand.
+/// go into the closed hand. The hand closes on the object as the search under the thesis's rule
+/// finds it (§6.4.1): a timing scene needs fingers pressing on the object, not a grasp that holds
+/// in every direction, and the Shadow hand has no valid power grasp of the built-in sphere under
+/// the default rule (its contacts all push one way).
 pub fn held_still(
     hand: &HandModel,
     object: &ObjectModel,
     settings: Settings,
 ) -> Result<Simulation, SimError> {
-    let grasp = plan_grasp(hand, object)?;
+    let params = SearchParams {
+        validity: ValidityRule::Thesis,
+        ..SearchParams::default()
+    };
+    let grasp = plan_grasp_with(hand, object, params)?;
     // Gravity presses the object into the palm (against the approach).
     let gravity = -9.81 * grasp.approach.normalize();
     let mut controller = grasp.controller(hand, &gravity)?;

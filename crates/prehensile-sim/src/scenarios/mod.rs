@@ -22,7 +22,9 @@ use serde::Serialize;
 use crate::simulation::{Settings, Simulation, StateChange};
 use crate::SimError;
 
-pub use grasp_plan::{grasp_arm, plan_grasp, GraspTimes, PlannedGrasp, APPROACH, LIFT};
+pub use grasp_plan::{
+    grasp_arm, plan_grasp, plan_grasp_with, GraspTimes, PlannedGrasp, APPROACH, LIFT,
+};
 pub use held_still::held_still;
 pub use hold_test::{
     hold_test, hold_test_of_result, HoldDirection, HoldReport, HOLD_ALPHA, HOLD_MOVE, HOLD_SECONDS,

@@ -1,0 +1,119 @@
+//! The narrowest cone of directions that holds every contact normal: how one-sided a grasp's
+//! pushes are. When every normal lies within less than 90° of one direction, a hand that squeezes
+//! pushes the object that way and only friction keeps it in; MuJoCo's replay of the Shadow hand's
+//! grasps drops most such grasps (docs/QUALITY.md).
+//!
+//! The cone's half-angle is `acos(max over unit u of min_i u·n_i)`: the smallest spherical cap
+//! holding the unit normals. As with the smallest circle around points in the plane, a cap
+//! narrower than a hemisphere is fixed by one, two or three of its points, so it is found by
+//! trying every such cap (the normalised sum of a pair; the direction equally far from a triple)
+//! and keeping the one whose farthest normal is nearest. That is O(n⁴) for n contacts, a few
+//! microseconds for the 3–20 contacts of a grasp, and needs no solver; caps of a hemisphere or
+//! wider all count as "not one-sided" and are reported as 90°.
+
+use crate::math::Vec3;
+
+/// The half-angle, radians, of the narrowest cone about some direction that contains every unit
+/// vector in `normals`; π/2 when they do not all fit in an open hemisphere (none, or normals
+/// that push from opposite sides), which is what a grasp that squeezes needs.
+pub fn narrowest_normal_cap(normals: impl Iterator<Item = Vec3> + Clone) -> f64 {
+    let smallest_cosine = |u: &Vec3| {
+        normals
+            .clone()
+            .map(|n| u.dot(&n))
+            .fold(f64::INFINITY, f64::min)
+    };
+    let mut best = 0.0_f64; // the largest smallest cosine found: > 0 means one-sided
+    let mut consider = |u: Vec3| {
+        let length = u.norm();
+        if length > 1e-12 {
+            best = best.max(smallest_cosine(&(u / length)));
+        }
+    };
+    for (i, a) in normals.clone().enumerate() {
+        consider(a);
+        for (j, b) in normals.clone().enumerate().skip(i + 1) {
+            consider(a + b);
+            for c in normals.clone().skip(j + 1) {
+                // Equally far from a, b and c: perpendicular to b − a and c − a; both sides.
+                let u = (b - a).cross(&(c - a));
+                consider(u);
+                consider(-u);
+            }
+        }
+    }
+    best.clamp(0.0, 1.0).acos()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn degrees(normals: &[Vec3]) -> f64 {
+        narrowest_normal_cap(normals.iter().map(|n| n.normalize())).to_degrees()
+    }
+
+    #[test]
+    fn opposite_pushes_are_not_one_sided() {
+        let x = Vec3::x();
+        assert_eq!(degrees(&[x, -x]), 90.0);
+        // A palm opposing four fingers, and a box held on four side faces.
+        let fingers =
+            [(0.3, 0.3), (0.3, -0.3), (-0.3, 0.3), (-0.3, -0.3)].map(|(y, z)| Vec3::new(1.0, y, z));
+        assert_eq!(degrees(&[fingers, [-Vec3::x(); 4]].concat()), 90.0);
+        assert_eq!(degrees(&[x, -x, Vec3::y(), -Vec3::y()]), 90.0);
+        assert_eq!(degrees(&[]), 90.0);
+    }
+
+    #[test]
+    fn the_cap_of_one_sided_normals_is_their_widest_spread() {
+        let x = Vec3::x();
+        assert!((degrees(&[x]) - 0.0).abs() < 1e-6);
+        // Two normals 120° apart: a cap of 60° about their bisector.
+        let b = Vec3::new(-0.5, 3f64.sqrt() / 2.0, 0.0);
+        assert!((degrees(&[x, b]) - 60.0).abs() < 1e-9);
+        // Three normals 30° from z, evenly round it (a fingertip tripod on a dome), plus one
+        // inside: the cap is their circumcircle, 30°, whatever the inner one.
+        let tripod: Vec<Vec3> = (0..3)
+            .map(|k| {
+                let phi = 2.0 * std::f64::consts::PI * k as f64 / 3.0;
+                let t = 30f64.to_radians();
+                Vec3::new(t.sin() * phi.cos(), t.sin() * phi.sin(), t.cos())
+            })
+            .chain([Vec3::new(0.1, 0.0, 1.0)])
+            .collect();
+        assert!((degrees(&tripod) - 30.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn agrees_with_a_dense_search_over_directions() {
+        // Random normals inside a cone about a random axis; compare with the best of 200k
+        // directions (which can only be slightly worse).
+        let mut seed = 7u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        for _ in 0..20 {
+            let axis = Vec3::new(next(), next(), next()).normalize();
+            let normals: Vec<Vec3> = (0..8)
+                .map(|_| (axis * 1.5 + Vec3::new(next(), next(), next())).normalize())
+                .collect();
+            let exact = degrees(&normals);
+            let mut sampled = 90.0_f64;
+            for _ in 0..200_000 {
+                let u = Vec3::new(next(), next(), next());
+                if u.norm() < 1e-3 {
+                    continue;
+                }
+                let u = u.normalize();
+                let worst = normals.iter().map(|n| u.dot(n)).fold(1.0, f64::min);
+                sampled = sampled.min(worst.clamp(0.0, 1.0).acos().to_degrees());
+            }
+            assert!(exact <= sampled + 1e-9, "exact {exact} > sampled {sampled}");
+            assert!(sampled - exact < 0.5, "exact {exact}, sampled {sampled}");
+        }
+    }
+}
