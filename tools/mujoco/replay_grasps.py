@@ -1,4 +1,8 @@
-"""Replays Shadow-hand grasps found by `prehensile grasp` in MuJoCo, an engine independent of ours.
+"""Replays grasps found by `prehensile grasp` in MuJoCo, an engine independent of ours.
+
+The Shadow hand (the default) is replayed in its own MJCF file; any other hand without ball joints
+(`--hand human`) in the model `hand_mjcf.py` builds from `prehensile hands --json`, with the Shadow
+file's finger servos (kp = 1 N·m/rad, ±0.9 N·m), so the two hands are replayed alike.
 
 For each grasp result (JSON written by `prehensile grasp --hand assets/hands/shadow_hand/reach.xml
 --out R.json`) and its object mesh, the same MJCF file is loaded with MjSpec and
@@ -16,6 +20,7 @@ Run from the repository root:
     cargo build --release -p prehensile-cli
     cargo run --release -p prehensile-formats --example export_builtin_objects -- /tmp/objects
     python3 tools/mujoco/replay_grasps.py --objects /tmp/objects --seeds 1 2 3
+    python3 tools/mujoco/replay_grasps.py --hand human --objects /tmp/objects --movements power
 It searches the grasps itself (power, precision and close movements) unless given --results.
 """
 import argparse
@@ -28,7 +33,11 @@ import tempfile
 import mujoco
 import numpy as np
 
-HAND = "assets/hands/shadow_hand/reach.xml"
+import hand_mjcf
+
+SHADOW = "assets/hands/shadow_hand/reach.xml"
+HAND = SHADOW  # the hand replayed: --hand
+CLI = "./target/release/prehensile"  # the build that searches: --cli
 SQUEEZE = 0.2
 MASS = 0.2
 SETTLE = 0.3
@@ -58,12 +67,41 @@ def matrix_pose(m):
 def build(result, mesh_path):
     """The scene, compiled inside the hand's folder so that its relative mesh paths resolve."""
     mesh_path = os.path.abspath(mesh_path)
+    if HAND != SHADOW:
+        return build_generated(result, mesh_path)
     here = os.getcwd()
     os.chdir(os.path.dirname(HAND))
     try:
         return build_here(result, mesh_path)
     finally:
         os.chdir(here)
+
+
+def add_object(spec, mesh_path):
+    """The object: a free body with the mesh (MuJoCo collides its convex hull), 0.2 kg, friction 1."""
+    mesh = spec.add_mesh()
+    mesh.name = "object_mesh"
+    mesh.file = mesh_path
+    obj = spec.worldbody.add_body()
+    obj.name = "object"
+    obj.add_freejoint()
+    geom = obj.add_geom()
+    geom.type = mujoco.mjtGeom.mjGEOM_MESH
+    geom.meshname = "object_mesh"
+    geom.mass = MASS
+    geom.friction = [1.0, 0.005, 0.0001]
+    geom.contype = 1
+    geom.conaffinity = 1
+
+
+def build_generated(result, mesh_path):
+    """A hand built from `prehensile hands --json`, its root bone fixed at the result's pose."""
+    pose = result["bones"][0]["pose"]
+    text, _ = hand_mjcf.mjcf(DESCRIPTION, pose["position"], quat_xyzw_to_wxyz(pose["rotation_xyzw"]))
+    spec = mujoco.MjSpec.from_string(text)
+    add_object(spec, mesh_path)
+    spec.option.gravity = [0, 0, 0]
+    return spec.compile()
 
 
 def build_here(result, mesh_path):
@@ -101,19 +139,7 @@ def build_here(result, mesh_path):
     body.pos = pos
     body.quat = quat
     body.alt.type = mujoco.mjtOrientation.mjORIENTATION_QUAT
-    mesh = spec.add_mesh()
-    mesh.name = "object_mesh"
-    mesh.file = mesh_path
-    obj = spec.worldbody.add_body()
-    obj.name = "object"
-    obj.add_freejoint()
-    geom = obj.add_geom()
-    geom.type = mujoco.mjtGeom.mjGEOM_MESH
-    geom.meshname = "object_mesh"
-    geom.mass = MASS
-    geom.friction = [1.0, 0.005, 0.0001]
-    geom.contype = 1
-    geom.conaffinity = 1
+    add_object(spec, mesh_path)
     # With the palm welded to the world MuJoCo no longer filters its contacts with its child
     # bodies (the thumb base's box sits inside the palm's): exclude them as the free hand would.
     for child in spec.body("robot0:palm").bodies:
@@ -128,11 +154,11 @@ def closing_directions(movement, model):
     """Per joint name, the sign in which the result's movement closes the hand: its end angle
     (`prehensile hands --file HAND --json`) minus the open angle (zero clamped into the joint's
     range); joints it moves less than 3 degrees get 0."""
-    p = subprocess.run(["./target/release/prehensile", "hands", "--file", HAND, "--json"],
-                       capture_output=True, text=True, check=True)
-    details = {m["name"]: m for m in json.loads(p.stdout)[0]["movement_details"]}
+    details = {m["name"]: m for m in DESCRIPTION["movement_details"]}
     out = {}
     for name, end_deg in details[movement]["end_angles_deg"].items():
+        if mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name) < 0:
+            continue  # a degree of freedom the model holds fixed
         lo, hi = model.jnt_range[model.joint(name).id]
         delta = np.radians(end_deg) - np.clip(0.0, lo, hi)
         out[name] = float(np.sign(delta)) if abs(delta) > np.radians(3.0) else 0.0
@@ -148,7 +174,8 @@ def replay(result, mesh_path):
         data = mujoco.MjData(model)
         closing = closing or closing_directions(result["movement"], model)
         for name, a in angles.items():
-            data.qpos[model.jnt_qposadr[model.joint(name).id]] = a
+            if mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name) >= 0:
+                data.qpos[model.jnt_qposadr[model.joint(name).id]] = a
         mujoco.mj_forward(model, data)
         # Squeeze past contact: each joint the movement closes is pushed 0.2 rad further in its
         # closing direction; joints the movement leaves alone (spread, twist) hold their angle.
@@ -182,7 +209,7 @@ def replay(result, mesh_path):
 
 
 def search(obj, movement, seed, out, extra):
-    p = subprocess.run(["./target/release/prehensile", "grasp", "--hand", HAND, "--object", obj,
+    p = subprocess.run([CLI, "grasp", "--hand", HAND, "--object", obj,
                         "--movement", movement, "--seed", str(seed), "--out", out] + extra,
                        capture_output=True, text=True)
     return p.returncode
@@ -200,14 +227,22 @@ def meshes(objects):
 
 
 def main():
+    global HAND, DESCRIPTION, CLI
     ap = argparse.ArgumentParser()
     ap.add_argument("--objects", required=True, help="folder of the built-in objects as OBJ")
+    ap.add_argument("--hand", default=SHADOW,
+                    help="the Shadow hand's MJCF (default), or a hand name or file without ball "
+                         "joints, replayed in the model hand_mjcf.py builds")
     ap.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 3])
     ap.add_argument("--movements", nargs="+", default=["power", "precision", "close"])
+    ap.add_argument("--cli", default=CLI,
+                    help="the prehensile binary that searches (to compare builds side by side)")
     ap.add_argument("--grasp-args", default="",
                     help="more options for `prehensile grasp`, e.g. '--weights 5,1,0,1,2'")
     ap.add_argument("--keep", help="folder to keep each result JSON with its MuJoCo outcome in")
     args = ap.parse_args()
+    HAND, CLI = args.hand, args.cli
+    DESCRIPTION = hand_mjcf.describe(HAND)
     total = held6 = held5 = gravity = 0
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
@@ -239,7 +274,7 @@ def main():
                                  f"fingers {','.join(result['fingers_touching'])}"))
     for r in rows:
         print(f"{r[0].split('/')[-1]:<24} {r[1]:<10} seed {r[2]}: {r[3]}")
-    print(f"{total} valid Shadow grasps replayed in MuJoCo {mujoco.__version__}: "
+    print(f"{total} valid {DESCRIPTION['name']} grasps replayed in MuJoCo {mujoco.__version__}: "
           f"{held5} held in >= 5 of 6 directions, {held6} in all 6, {gravity} against gravity (-z)")
 
 

@@ -52,11 +52,34 @@ struct FingerSummary {
     tip: [f64; 3],
 }
 
+/// A bone's joint, with what it takes to rebuild the hand in another program (e.g. an MJCF for
+/// MuJoCo, `tools/mujoco/hand_mjcf.py`): the bone's rest frame in its parent's, the joint's axes
+/// and its capsules in the bone's frame.
 #[derive(serde::Serialize)]
 struct JointSummary {
     bone: String,
+    /// The parent bone, `None` for the root.
+    parent: Option<String>,
     kind: &'static str,
     limits_deg: Vec<[f64; 2]>,
+    /// The degrees of freedom's names, in the order of a joint-angle vector.
+    dofs: Vec<String>,
+    /// Each degree of freedom's axis, bone frame: a hinge's axis; a two-axis joint's flexion
+    /// (inner) then abduction (outer) axis, R = R(abduction)·R(flexion); a ball joint's x, y, z
+    /// (its angles are a rotation vector).
+    axes: Vec<[f64; 3]>,
+    /// The bone frame at rest, in the parent's frame (the root's: in the hand frame).
+    rest_position: [f64; 3],
+    rest_rotation_xyzw: [f64; 4],
+    /// The bone's capsules, bone frame: end points and radius, metres.
+    capsules: Vec<CapsuleSummary>,
+}
+
+#[derive(serde::Serialize)]
+struct CapsuleSummary {
+    a: [f64; 3],
+    b: [f64; 3],
+    radius: f64,
 }
 
 fn summary(h: &HandModel) -> HandSummary {
@@ -107,8 +130,31 @@ fn summary(h: &HandModel) -> HandSummary {
         joints: h
             .bones()
             .iter()
-            .map(|b| JointSummary {
+            .enumerate()
+            .map(|(k, b)| JointSummary {
                 bone: b.name.clone(),
+                parent: b.parent.map(|p| h.bones()[p].name.clone()),
+                dofs: h.dof_names()[b.first_dof..b.first_dof + b.joint.dofs()].to_vec(),
+                axes: match &b.joint {
+                    Joint::Fixed => vec![],
+                    Joint::Hinge(a) => vec![a.axis.into_inner().into()],
+                    Joint::TwoAxis { flexion, abduction } => vec![
+                        flexion.axis.into_inner().into(),
+                        abduction.axis.into_inner().into(),
+                    ],
+                    Joint::Ball { .. } => vec![[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+                },
+                rest_position: b.rest.translation.vector.into(),
+                rest_rotation_xyzw: b.rest.rotation.coords.into(),
+                capsules: h
+                    .bone_capsules(k)
+                    .iter()
+                    .map(|c| CapsuleSummary {
+                        a: c.a.into(),
+                        b: c.b.into(),
+                        radius: c.radius,
+                    })
+                    .collect(),
                 kind: match b.joint {
                     Joint::Fixed => "fixed",
                     Joint::Hinge(_) => "hinge",
