@@ -38,6 +38,7 @@ import hand_mjcf
 SHADOW = "assets/hands/shadow_hand/reach.xml"
 HAND = SHADOW  # the hand replayed: --hand
 CLI = "./target/release/prehensile"  # the build that searches: --cli
+DESCRIPTION = None  # HAND as `prehensile hands --json` describes it, read once: description()
 SQUEEZE = 0.2
 MASS = 0.2
 SETTLE = 0.3
@@ -94,10 +95,18 @@ def add_object(spec, mesh_path):
     geom.conaffinity = 1
 
 
+def description():
+    """HAND as `prehensile hands --json` describes it (read on first use)."""
+    global DESCRIPTION
+    if DESCRIPTION is None:
+        DESCRIPTION = hand_mjcf.describe(HAND)
+    return DESCRIPTION
+
+
 def build_generated(result, mesh_path):
     """A hand built from `prehensile hands --json`, its root bone fixed at the result's pose."""
     pose = result["bones"][0]["pose"]
-    text, _ = hand_mjcf.mjcf(DESCRIPTION, pose["position"], quat_xyzw_to_wxyz(pose["rotation_xyzw"]))
+    text, _ = hand_mjcf.mjcf(description(), pose["position"], quat_xyzw_to_wxyz(pose["rotation_xyzw"]))
     spec = mujoco.MjSpec.from_string(text)
     add_object(spec, mesh_path)
     spec.option.gravity = [0, 0, 0]
@@ -154,7 +163,7 @@ def closing_directions(movement, model):
     """Per joint name, the sign in which the result's movement closes the hand: its end angle
     (`prehensile hands --file HAND --json`) minus the open angle (zero clamped into the joint's
     range); joints it moves less than 3 degrees get 0."""
-    details = {m["name"]: m for m in DESCRIPTION["movement_details"]}
+    details = {m["name"]: m for m in description()["movement_details"]}
     out = {}
     for name, end_deg in details[movement]["end_angles_deg"].items():
         if mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name) < 0:
@@ -227,7 +236,7 @@ def meshes(objects):
 
 
 def main():
-    global HAND, DESCRIPTION, CLI
+    global HAND, CLI
     ap = argparse.ArgumentParser()
     ap.add_argument("--objects", required=True, help="folder of the built-in objects as OBJ")
     ap.add_argument("--hand", default=SHADOW,
@@ -242,7 +251,6 @@ def main():
     ap.add_argument("--keep", help="folder to keep each result JSON with its MuJoCo outcome in")
     args = ap.parse_args()
     HAND, CLI = args.hand, args.cli
-    DESCRIPTION = hand_mjcf.describe(HAND)
     total = held6 = held5 = gravity = 0
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
@@ -274,7 +282,7 @@ def main():
                                  f"fingers {','.join(result['fingers_touching'])}"))
     for r in rows:
         print(f"{r[0].split('/')[-1]:<24} {r[1]:<10} seed {r[2]}: {r[3]}")
-    print(f"{total} valid {DESCRIPTION['name']} grasps replayed in MuJoCo {mujoco.__version__}: "
+    print(f"{total} valid {description()['name']} grasps replayed in MuJoCo {mujoco.__version__}: "
           f"{held5} held in >= 5 of 6 directions, {held6} in all 6, {gravity} against gravity (-z)")
 
 
