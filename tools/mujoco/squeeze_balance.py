@@ -97,7 +97,7 @@ def main():
         for obj, mesh in replay.meshes(args.objects).items():
             for movement in ["power", "precision", "close"]:
                 for seed in args.seeds:
-                    if replay.search(obj, movement, seed, out) != 0:
+                    if replay.search(obj, movement, seed, out, []) != 0:
                         continue
                     result = json.load(open(out))
                     held = sum(o["held"] for o in replay.replay(result, mesh))
