@@ -1,5 +1,6 @@
-// Per-frame search time of the wasm session on your meshes, as the page runs it: `Session.open`
-// (the object's setup, timed apart), then `run_for(4)` once a "frame" until the search stops.
+// Search time per slice of the wasm session on your meshes, as the viewer's worker runs it:
+// `Session.open` (the object's setup, timed apart), then `run_for(4)` once a slice until the
+// search stops.
 // Usage (after `bash tools/viewer/build.sh`): node tools/viewer/frame_times.mjs MESH... [--hand H]
 import fs from 'node:fs';
 import init, { Session } from '../../viewer/pkg/prehensile_wasm.js';
