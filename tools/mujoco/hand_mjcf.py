@@ -1,19 +1,19 @@
 """An MJCF model of any hand Prehensile reads, for replaying its grasps in MuJoCo.
 
-From `prehensile hands --file HAND --json` (or a built-in name with `--hand`): one body per bone at
+From `prehensile hands --json` (a built-in hand, or `--file` a hand file): one body per bone at
 its rest frame in its parent's, its capsules as capsule geoms (density of water), one hinge joint
 per degree of freedom about the joint's own axis with its limits (a two-axis joint's abduction
 listed first, so that MuJoCo composes R = R(abduction)·R(flexion) as Prehensile does), and a
 position servo per joint with the Shadow hand file's finger actuation (kp = 1 N·m/rad, force
 range ±0.9 N·m) and joint defaults (damping 0.1, armature 0.001), so that both hands are replayed
 with the same strength. Hand geoms collide with the object, not with each other (the Shadow file's
-collision class does the same). A degree of freedom whose limits are one angle gets no joint.
-Ball joints are refused: Prehensile's are rotation vectors, which
-no chain of MuJoCo hinges reproduces.
+collision class does the same). A degree of freedom whose limits are one angle gets no joint. Ball
+joints are refused: Prehensile's are rotation vectors, which no chain of MuJoCo hinges reproduces.
 
     python3 tools/mujoco/hand_mjcf.py human > /tmp/human.xml   # a hand name or file
 """
 import json
+import os
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
@@ -25,9 +25,10 @@ FORCE = 0.9
 
 def describe(hand):
     """`prehensile hands --json` for a hand file or a built-in name."""
-    args = [CLI, "hands", "--json"] + ([] if "." not in hand else ["--file", hand])
+    is_file = os.path.exists(hand)
+    args = [CLI, "hands", "--json"] + (["--file", hand] if is_file else [])
     hands = json.loads(subprocess.run(args, capture_output=True, text=True, check=True).stdout)
-    if "." in hand:
+    if is_file:
         return hands[0]
     for h in hands:
         if h["name"] == hand:
@@ -41,7 +42,7 @@ def fmt(values):
 
 def mjcf(hand, root_position=(0, 0, 0), root_quat_wxyz=(1, 0, 0, 0)):
     """The MJCF text of `hand` (the `hands --json` entry), its root body at the given pose and
-    fixed there (no free joint). Returns (xml text, names of the joints in actuator order)."""
+    fixed there (no free joint)."""
     joints = hand["joints"]
     if any(j["kind"] == "ball" for j in joints):
         raise SystemExit(f"hand '{hand['name']}' has ball joints, which this model cannot copy")
@@ -88,10 +89,10 @@ def mjcf(hand, root_position=(0, 0, 0), root_quat_wxyz=(1, 0, 0, 0)):
         ET.SubElement(actuators, "position", name=f"A_{name}", joint=name, kp=f"{KP}",
                       ctrllimited="true", ctrlrange=fmt([lo, hi]), forcelimited="true",
                       forcerange=fmt([-FORCE, FORCE]))
-    return ET.tostring(root, encoding="unicode"), [a[0] for a in actuated]
+    return ET.tostring(root, encoding="unicode")
 
 
 if __name__ == "__main__":
     if len(sys.argv) != 2:
         raise SystemExit("usage: hand_mjcf.py HAND (a built-in name or a hand file)")
-    print(mjcf(describe(sys.argv[1]))[0])
+    print(mjcf(describe(sys.argv[1])))

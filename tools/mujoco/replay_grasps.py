@@ -106,7 +106,7 @@ def description():
 def build_generated(result, mesh_path):
     """A hand built from `prehensile hands --json`, its root bone fixed at the result's pose."""
     pose = result["bones"][0]["pose"]
-    text, _ = hand_mjcf.mjcf(description(), pose["position"], quat_xyzw_to_wxyz(pose["rotation_xyzw"]))
+    text = hand_mjcf.mjcf(description(), pose["position"], quat_xyzw_to_wxyz(pose["rotation_xyzw"]))
     spec = mujoco.MjSpec.from_string(text)
     add_object(spec, mesh_path)
     spec.option.gravity = [0, 0, 0]

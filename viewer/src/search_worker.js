@@ -35,8 +35,7 @@ tick.port1.onmessage = () => {
   try {
     status = session.run_for(budget);
   } catch (e) {
-    status = 'error';
-    post({ type: 'error', message: String(e?.message ?? e) });
+    fail(e);
     return;
   }
   const sliceMs = performance.now() - t0;
@@ -46,8 +45,7 @@ tick.port1.onmessage = () => {
     try {
       post({ type: 'result', status, sliceMs, json: session.result_json() });
     } catch (e) {
-      status = 'error';
-      post({ type: 'error', message: String(e?.message ?? e) });
+      fail(e);
       return;
     }
   } else {
@@ -58,6 +56,12 @@ tick.port1.onmessage = () => {
 
 function post(message, transfer = []) {
   self.postMessage(message, transfer);
+}
+
+// The search stops on an error the core threw; the page shows it.
+function fail(e) {
+  status = 'error';
+  post({ type: 'error', message: String(e?.message ?? e) });
 }
 
 // Opens a hand and an object; on failure the last session goes on (the page keeps showing it).

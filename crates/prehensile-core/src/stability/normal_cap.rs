@@ -7,9 +7,10 @@
 //! holding the unit normals. As with the smallest circle around points in the plane, a cap
 //! narrower than a hemisphere is fixed by one, two or three of its points, so it is found by
 //! trying every such cap (the normalised sum of a pair; the direction equally far from a triple)
-//! and keeping the one whose farthest normal is nearest. That is O(n⁴) for n contacts, a few
-//! microseconds for the 3–20 contacts of a grasp, and needs no solver; caps of a hemisphere or
-//! wider all count as "not one-sided" and are reported as 90°.
+//! and keeping the one whose farthest normal is nearest. That is O(n³) candidate directions for n
+//! contacts (about 20 µs for the 17 contacts of the largest grasps measured, 0.5 ms for 40), and
+//! needs no solver; caps of a hemisphere or wider all count as "not one-sided" and are reported
+//! as 90°.
 
 use crate::math::Vec3;
 
@@ -17,18 +18,23 @@ use crate::math::Vec3;
 /// vector in `normals`; π/2 when they do not all fit in an open hemisphere (none, or normals
 /// that push from opposite sides), which is what a grasp that squeezes needs.
 pub fn narrowest_normal_cap(normals: impl Iterator<Item = Vec3> + Clone) -> f64 {
-    let smallest_cosine = |u: &Vec3| {
-        normals
-            .clone()
-            .map(|n| u.dot(&n))
-            .fold(f64::INFINITY, f64::min)
-    };
     let mut best = 0.0_f64; // the largest smallest cosine found: > 0 means one-sided
+                            // A direction's smallest cosine over the normals, given up as soon as it cannot beat the best
+                            // so far (the answer is the same as scanning every normal; half the time).
     let mut consider = |u: Vec3| {
         let length = u.norm();
-        if length > 1e-12 {
-            best = best.max(smallest_cosine(&(u / length)));
+        if length <= 1e-12 {
+            return;
         }
+        let u = u / length;
+        let mut smallest = f64::INFINITY;
+        for n in normals.clone() {
+            smallest = smallest.min(u.dot(&n));
+            if smallest <= best {
+                return;
+            }
+        }
+        best = smallest;
     };
     for (i, a) in normals.clone().enumerate() {
         consider(a);
