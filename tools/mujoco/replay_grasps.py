@@ -8,7 +8,12 @@ For each grasp result (JSON written by `prehensile grasp --hand assets/hands/sha
 --out R.json`) and its object mesh, the same MJCF file is loaded with MjSpec and
   - the wrist joints are removed and the hand mount moved so that the palm sits exactly at the
     result's palm pose (`bones[0]`, object frame = world frame);
-  - the object is added as a free body (its mesh, 0.2 kg, friction 1) at the origin;
+  - the object is added as a free body (its mesh, 0.2 kg) at the origin; MuJoCo collides a mesh
+    as its convex hull, so a non-convex object (the torus, the mug) is split into convex parts by
+    CoACD first (--hull-only: not);
+  - every geom's friction is 1, the Shadow file's (--mu); the solver is the file's (pyramidal
+    friction cones, impratio 1), or with --stiff-friction elliptic cones and impratio 10, which
+    MuJoCo advises against the slow slip of its soft contacts (see world_options);
   - the hand starts at the result's joint angles; its own position actuators are commanded to the
     grasp angles plus a squeeze of 0.2 rad toward closing (tendon actuators: the tendon length of
     the grasp plus 0.2 times the tendon's coupling coefficients' sum);
@@ -16,12 +21,13 @@ For each grasp result (JSON written by `prehensile grasp --hand assets/hands/sha
     directions for 1 s; held = the object moved < 2 cm and turned < 30 degrees. Six runs per grasp.
 
 Run from the repository root:
-    pip install mujoco==4.0.0 numpy
+    pip install mujoco==4.0.0 numpy scipy pillow coacd==1.0.14 trimesh==5.2.0
     cargo build --release -p prehensile-cli
     cargo run --release -p prehensile-formats --example export_builtin_objects -- /tmp/objects
     python3 tools/mujoco/replay_grasps.py --objects /tmp/objects --seeds 1 2 3
     python3 tools/mujoco/replay_grasps.py --hand human --objects /tmp/objects --movements power
-It searches the grasps itself (power, precision and close movements) unless given --results.
+    python3 tools/mujoco/replay_grasps.py --objects /tmp/objects --movements power --stiff-friction
+It searches the grasps itself (power, precision and close movements; --movements).
 """
 import argparse
 import json
@@ -44,6 +50,10 @@ MASS = 0.2
 SETTLE = 0.3
 LOAD = 1.0
 DIRECTIONS = ["+x", "-x", "+y", "-y", "+z", "-z"]
+CONVEX_PARTS = True  # split non-convex objects into convex parts: --hull-only turns it off
+PARTS = "target/mujoco_parts"  # where the convex parts are cached
+STIFF_FRICTION = False  # --stiff-friction: see world_options
+MU = 1.0  # every geom's sliding friction: --mu
 
 
 def quat_xyzw_to_wxyz(q):
@@ -66,33 +76,78 @@ def matrix_pose(m):
 
 
 def build(result, mesh_path):
-    """The scene, compiled inside the hand's folder so that its relative mesh paths resolve."""
+    """The scene (the Shadow file compiled inside its folder, so that its relative mesh paths
+    resolve), every geom's sliding friction set to MU."""
     mesh_path = os.path.abspath(mesh_path)
     if HAND != SHADOW:
-        return build_generated(result, mesh_path)
-    here = os.getcwd()
-    os.chdir(os.path.dirname(HAND))
-    try:
-        return build_here(result, mesh_path)
-    finally:
-        os.chdir(here)
+        model = build_generated(result, mesh_path)
+    else:
+        here = os.getcwd()
+        os.chdir(os.path.dirname(HAND))
+        try:
+            model = build_here(result, mesh_path)
+        finally:
+            os.chdir(here)
+    model.geom_friction[:, 0] = MU
+    return model
+
+
+def convex_parts(mesh_path):
+    """The mesh as MuJoCo should collide it: MuJoCo collides each mesh geom as its convex hull,
+    which fills the torus's hole and the mug's cup (and the fingers that grasp there end up
+    inside the object). A closed mesh whose volume is under 90% of its hull's is split into
+    convex parts by CoACD (PyPI `coacd`, threshold 0.03; about 5 s for the torus, 13 s for the
+    mug, cached in PARTS). Returns [(OBJ file, volume)]; one part, the mesh itself, otherwise."""
+    import coacd
+    import trimesh
+    mesh = trimesh.load(mesh_path, force="mesh")
+    if not (mesh.is_watertight and mesh.volume < 0.9 * mesh.convex_hull.volume):
+        return [(mesh_path, 1.0)]
+    stem = os.path.splitext(os.path.basename(mesh_path))[0]
+    folder = os.path.join(PARTS, f"{stem}-{len(mesh.faces)}-{mesh.volume:.9f}")
+    if not os.path.isdir(folder):
+        coacd.set_log_level("error")
+        pieces = coacd.run_coacd(coacd.Mesh(mesh.vertices, mesh.faces), threshold=0.03)
+        os.makedirs(folder + ".tmp", exist_ok=True)
+        for k, (v, f) in enumerate(pieces):
+            trimesh.Trimesh(v, f).export(os.path.join(folder + ".tmp", f"part{k:03}.obj"))
+        os.replace(folder + ".tmp", folder)
+    files = sorted(os.path.join(folder, f) for f in os.listdir(folder))
+    return [(f, trimesh.load(f, force="mesh").convex_hull.volume) for f in files]
 
 
 def add_object(spec, mesh_path):
-    """The object: a free body with the mesh (MuJoCo collides its convex hull), 0.2 kg, friction 1."""
-    mesh = spec.add_mesh()
-    mesh.name = "object_mesh"
-    mesh.file = mesh_path
+    """The object: a free body with the mesh (its convex parts, see convex_parts), 0.2 kg in all
+    (shared by volume); its friction is set with every other geom's in build()."""
     obj = spec.worldbody.add_body()
     obj.name = "object"
     obj.add_freejoint()
-    geom = obj.add_geom()
-    geom.type = mujoco.mjtGeom.mjGEOM_MESH
-    geom.meshname = "object_mesh"
-    geom.mass = MASS
-    geom.friction = [1.0, 0.005, 0.0001]
-    geom.contype = 1
-    geom.conaffinity = 1
+    parts = convex_parts(mesh_path) if CONVEX_PARTS else [(mesh_path, 1.0)]
+    total = sum(volume for _, volume in parts)
+    for k, (path, volume) in enumerate(parts):
+        mesh = spec.add_mesh()
+        mesh.name = f"object_mesh{k}"
+        mesh.file = os.path.abspath(path)
+        geom = obj.add_geom()
+        geom.type = mujoco.mjtGeom.mjGEOM_MESH
+        geom.meshname = mesh.name
+        geom.mass = MASS * volume / total
+        geom.friction = [1.0, 0.005, 0.0001]
+        geom.contype = 1
+        geom.conaffinity = 1
+
+
+def world_options(spec):
+    """No gravity until the load; with --stiff-friction, elliptic friction cones and impratio 10.
+
+    MuJoCo's contacts are soft: at the default (pyramidal cones, impratio 1) an object whose load
+    is within its friction limit still creeps, and a grasped object slowly slides out of the
+    grip. MuJoCo's documentation recommends elliptic cones with impratio > 1 against this slip,
+    and MuJoCo Menagerie's manipulation scenes set them; the Shadow file sets neither."""
+    spec.option.gravity = [0, 0, 0]
+    if STIFF_FRICTION:
+        spec.option.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
+        spec.option.impratio = 10
 
 
 def description():
@@ -109,7 +164,7 @@ def build_generated(result, mesh_path):
     text = hand_mjcf.mjcf(description(), pose["position"], quat_xyzw_to_wxyz(pose["rotation_xyzw"]))
     spec = mujoco.MjSpec.from_string(text)
     add_object(spec, mesh_path)
-    spec.option.gravity = [0, 0, 0]
+    world_options(spec)
     return spec.compile()
 
 
@@ -155,7 +210,7 @@ def build_here(result, mesh_path):
         exclude = spec.add_exclude()
         exclude.bodyname1 = "robot0:palm"
         exclude.bodyname2 = child.name
-    spec.option.gravity = [0, 0, 0]
+    world_options(spec)
     return spec.compile()
 
 
@@ -236,7 +291,7 @@ def meshes(objects):
 
 
 def main():
-    global HAND, CLI
+    global HAND, CLI, CONVEX_PARTS, STIFF_FRICTION, MU
     ap = argparse.ArgumentParser()
     ap.add_argument("--objects", required=True, help="folder of the built-in objects as OBJ")
     ap.add_argument("--hand", default=SHADOW,
@@ -248,9 +303,22 @@ def main():
                     help="the prehensile binary that searches (to compare builds side by side)")
     ap.add_argument("--grasp-args", default="",
                     help="more options for `prehensile grasp`, e.g. '--weights 5,1,0,1,2'")
+    ap.add_argument("--hull-only", action="store_true",
+                    help="collide each object as one convex hull, as before session 13 (the "
+                         "torus and the mug then lose their hole and cup)")
+    ap.add_argument("--stiff-friction", action="store_true",
+                    help="elliptic friction cones and impratio 10, MuJoCo's advice against slip "
+                         "(default: the Shadow file's pyramidal cones, impratio 1)")
+    ap.add_argument("--mu", type=float, default=MU,
+                    help="sliding friction of every geom, hand and object (default 1, the "
+                         "Shadow file's)")
+    ap.add_argument("--require", type=float,
+                    help="exit with status 1 if fewer than this share of the valid grasps hold "
+                         "in >= 5 of 6 directions (CI uses it against regressions)")
     ap.add_argument("--keep", help="folder to keep each result JSON with its MuJoCo outcome in")
     args = ap.parse_args()
-    HAND, CLI = args.hand, args.cli
+    HAND, CLI, CONVEX_PARTS = args.hand, args.cli, not args.hull_only
+    STIFF_FRICTION, MU = args.stiff_friction, args.mu
     total = held6 = held5 = gravity = 0
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
@@ -284,6 +352,10 @@ def main():
         print(f"{r[0].split('/')[-1]:<24} {r[1]:<10} seed {r[2]}: {r[3]}")
     print(f"{total} valid {description()['name']} grasps replayed in MuJoCo {mujoco.__version__}: "
           f"{held5} held in >= 5 of 6 directions, {held6} in all 6, {gravity} against gravity (-z)")
+    if args.require is not None and not (total > 0 and held5 >= args.require * total):
+        print(f"FAILED: {held5} of {total} held in >= 5 directions, {args.require:.0%} required")
+        return 1
+    return 0
 
 
 if __name__ == "__main__":
