@@ -101,7 +101,9 @@ pub struct BatchArgs {
     /// The world's up axis: x, y or z.
     #[arg(long, default_value = "z")]
     pub up: String,
-    /// Coulomb friction coefficient of the contacts.
+    /// Coulomb friction coefficient the search assumes: force closure, ε, and how far the contact
+    /// normals must spread (78° at 0.5, 59.6° at 1). The default 0.5 is about half a grippy
+    /// world's friction; MuJoCo holds fewer grasps searched with the full friction (docs/QUALITY.md).
     #[arg(long, default_value_t = 0.5)]
     pub friction: f64,
     /// Which grasps are valid: holds or thesis.
@@ -148,7 +150,7 @@ pub struct SimulateArgs {
     /// substep and at least 3, so 3 at 0.2 ms and 8 at 1 ms).
     #[arg(long)]
     pub inner_iterations: Option<usize>,
-    /// Friction coefficient.
+    /// Friction coefficient of the world (the grasp scenarios also search their grasps with it).
     #[arg(long, default_value_t = 1.0)]
     pub friction: f64,
     /// Object density, kg/m³. The default (20, like expanded polystyrene) gives objects of
@@ -265,7 +267,8 @@ pub struct GraspArgs {
     /// with, Eq. 5.2; S defaults to 0).
     #[arg(long, value_parser = parse_weights)]
     pub weights: Option<[f64; 5]>,
-    /// Coulomb friction coefficient of the contacts, for force closure and ε.
+    /// Coulomb friction coefficient the search assumes: force closure, ε, and how far the contact
+    /// normals must spread (78° at 0.5, 59.6° at 1).
     #[arg(long, default_value_t = 0.5)]
     pub friction: f64,
     /// Which grasps are valid: `holds` (force closure; a precision grasp's thumb and index pads

@@ -401,3 +401,36 @@ fn the_benchmark_scene_holds_its_object_still() {
     // Settling in the hand moves it a few millimetres; falling would take it 20 cm.
     assert!(moved < 0.005, "the sphere moved {moved} m in 0.2 s");
 }
+
+#[test]
+fn the_shadow_hand_plans_its_grasp_with_the_worlds_friction_and_lifts_the_sphere() {
+    // The search judges a grasp by the friction it assumes. In the default world (friction 1)
+    // the Shadow hand's sphere grasp, every contact normal within 69–72° of one direction, is
+    // valid (59.6° needed at friction 1) and the hand lifts the ball; in a world of friction 0.5
+    // the same plan is refused (78° needed), and the scenario says why instead of simulating.
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let shadow = dir.join("../../assets/hands/shadow_hand/reach.xml");
+    let options = Options {
+        hand: prehensile_formats::load_hand(&shadow).unwrap(),
+        ..options(&["sphere"], 0.5)
+    };
+    let (report, _) = scenarios::run(Scenario::Grasp, &options, &mut |_, _| {}).unwrap();
+    let case = &report.cases[0];
+    assert!(case.finite, "{case:?}");
+    assert_eq!(case.held, Some(true), "{case:?}");
+    assert!(case.metrics["object_rise_m"] > 0.08, "{case:?}");
+
+    let slippery = Options {
+        settings: Settings {
+            friction: 0.5,
+            ..Settings::default()
+        },
+        ..options
+    };
+    let e = scenarios::run(Scenario::Grasp, &slippery, &mut |_, _| {}).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("every contact pushes the object one way"),
+        "{e}"
+    );
+}

@@ -19,7 +19,9 @@ pub use planner::{
     GraspPlanner, PlannerStatus, SearchError, SearchParams, SearchSink, SearchStats, StopRule,
     SAMPLES_PER_SLICE,
 };
-pub use quality::{Evaluation, Invalid, QualityTerms, QualityWeights, ValidityRule};
+pub use quality::{
+    one_sided_cap, Evaluation, Invalid, QualityTerms, QualityWeights, ValidityRule, ONE_SIDED_CAP,
+};
 pub use result::{GraspResult, RESULT_SCHEMA};
 pub use shared_planner::SharedPlanner;
 pub use start_position::default_shoulder;

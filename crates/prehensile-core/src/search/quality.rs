@@ -21,12 +21,27 @@ pub const CONTACT_TOLERANCE: f64 = 0.001;
 /// Smallest angle between the thumb's and the index's pad normals in a precision grasp (120°).
 pub const OPPOSITION_ANGLE: f64 = 2.0 * std::f64::consts::FRAC_PI_3;
 
-/// Narrowest cone of contact normals a grasp may have (78°): when every contact pushes within
-/// less of one direction, a squeeze pushes the object that way and only friction holds it. Of 77
-/// Shadow-hand power grasps replayed in MuJoCo, the 38 with a narrower cone held 1 in at least 5
-/// of 6 load directions, the 39 others 12; searched with the rule, power grasps held that well
-/// went from 18% to 38% (docs/QUALITY.md).
+/// The narrowest cone of contact normals a grasp may have at the default friction μ = 0.5 (78°);
+/// see [`one_sided_cap`]. Of 77 Shadow-hand power grasps replayed in MuJoCo (the file's own
+/// solver, friction 1), the 38 with a narrower cone held 1 in at least 5 of 6 load directions,
+/// the 39 others 12; at friction 0.5 with MuJoCo's anti-slip settings, searched with the rule,
+/// 62% held against 37% without it (docs/QUALITY.md).
 pub const ONE_SIDED_CAP: f64 = 78.0 * std::f64::consts::PI / 180.0;
+
+/// The narrowest cone of contact normals a grasp may have with friction `friction`, radians:
+/// [`ONE_SIDED_CAP`] at μ = 0.5, moved by how far atan μ moves from atan 0.5 (59.6° at μ = 1),
+/// and at most 90°.
+///
+/// Each contact force lies within atan μ of its normal. If the normals fit in a cone of
+/// half-angle θ, every force fits in θ + atan μ, and below 90° all forces push into one open
+/// half-space: no squeeze can balance, it pushes the object out and only friction's reserve holds
+/// it. So the threshold falls as friction grows, one for one with atan μ; the 14.6° it keeps
+/// above that bare bound is the reserve measured at μ = 0.5. At 90° the normals fit in no open
+/// hemisphere, the most this test can ask.
+pub fn one_sided_cap(friction: f64) -> f64 {
+    let cap = ONE_SIDED_CAP + 0.5f64.atan() - friction.max(0.0).atan();
+    cap.min(std::f64::consts::FRAC_PI_2)
+}
 
 /// Default weight of the stability term; see [`QualityWeights::stability`]. Zero for now: with
 /// weight 2 or more the search moved the ball-jointed robot3's sphere grasp to one with a larger
@@ -40,7 +55,7 @@ pub const STABILITY_WEIGHT: f64 = 0.0;
 pub enum ValidityRule {
     /// The grasp must hold: no penetration, the thesis's finger counts, force closure with the
     /// contact model's friction, contacts that push from more than one side (their normals not
-    /// all within [`ONE_SIDED_CAP`] of one direction), and for a movement with contact fingers
+    /// all within [`one_sided_cap`] of one direction), and for a movement with contact fingers
     /// the first two (thumb and index) pads opposed by at least [`OPPOSITION_ANGLE`].
     #[default]
     Holds,
@@ -172,6 +187,8 @@ pub enum Invalid {
     OneSided {
         /// Half-angle of the narrowest cone holding every contact normal, degrees.
         cap_degrees: f64,
+        /// The half-angle the friction asks for ([`one_sided_cap`]), degrees.
+        needed_degrees: f64,
     },
     /// The thumb's and the index's pads do not push against each other.
     NoOpposition {
@@ -207,11 +224,14 @@ impl std::fmt::Display for Invalid {
                 f,
                 "not in force closure: its {contacts} contact(s) cannot resist every push and twist with this friction"
             ),
-            Invalid::OneSided { cap_degrees } => write!(
+            Invalid::OneSided {
+                cap_degrees,
+                needed_degrees,
+            } => write!(
                 f,
                 "every contact pushes the object one way (all normals within {cap_degrees:.0}° of one \
-                 direction, {:.0}° needed): a squeeze would push it out of the hand",
-                ONE_SIDED_CAP.to_degrees()
+                 direction, {needed_degrees:.0}° needed at this friction): a squeeze would push it \
+                 out of the hand"
             ),
             Invalid::NoOpposition { angle_degrees } => write!(
                 f,
@@ -386,9 +406,11 @@ impl EvaluationContext<'_> {
             });
         }
         let cap = narrowest_normal_cap(ws.contacts.iter().map(|c| c.normal));
-        if cap < ONE_SIDED_CAP {
+        let needed = one_sided_cap(self.contact_model.friction);
+        if cap < needed {
             return Err(Invalid::OneSided {
                 cap_degrees: cap.to_degrees(),
+                needed_degrees: needed.to_degrees(),
             });
         }
         if let [thumb, index, ..] = *self.movement.contact_fingers() {
@@ -497,5 +519,27 @@ impl EvaluationContext<'_> {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_one_sided_threshold_follows_friction() {
+        let degrees = |mu: f64| one_sided_cap(mu).to_degrees();
+        assert!((degrees(0.5) - 78.0).abs() < 1e-12);
+        // 78° − (45° − 26.565°) at μ = 1.
+        assert!((degrees(1.0) - 59.565).abs() < 1e-3, "{}", degrees(1.0));
+        // Slippery contacts ask for normals in no open hemisphere, and no more.
+        assert_eq!(degrees(0.1), 90.0);
+        assert_eq!(degrees(0.0), 90.0);
+        let mut last = 90.0;
+        for k in 1..=40 {
+            let d = degrees(k as f64 * 0.1);
+            assert!(d <= last, "μ = {}: {d}° after {last}°", k as f64 * 0.1);
+            last = d;
+        }
     }
 }

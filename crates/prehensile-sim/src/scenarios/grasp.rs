@@ -7,8 +7,8 @@ use prehensile_core::math::Transform;
 use prehensile_core::{HandModel, ObjectModel};
 
 use super::{
-    case, grasp_arm, plan_grasp, recording, step_until, CaseReport, GraspTimes, Options,
-    PlannedGrasp, Recording, LIFT,
+    case, grasp_arm, recording, step_until, CaseReport, GraspTimes, Options, PlannedGrasp,
+    Recording, LIFT,
 };
 use crate::simulation::{DistanceTo, HandSetup, Settings, Simulation};
 use crate::SimError;
@@ -115,7 +115,7 @@ pub(crate) fn example_controller(
         .objects
         .first()
         .ok_or_else(|| SimError::Settings("give at least one object".into()))?;
-    let grasp = plan_grasp(&options.hand, first)?;
+    let grasp = options.plan_grasp(first)?;
     let mut controller = grasp.controller(&options.hand, &options.settings.gravity)?;
     controller.alpha = options.alpha;
     Ok((controller, grasp))
@@ -134,7 +134,7 @@ pub(crate) fn run(
         let grasp = if k == 0 {
             first_grasp.clone()
         } else {
-            plan_grasp(&options.hand, object)?
+            options.plan_grasp(object)?
         };
         add(grasp_case(
             &options.hand,

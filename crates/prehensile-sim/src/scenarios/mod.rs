@@ -107,6 +107,17 @@ pub struct Options {
     pub seconds: Option<f64>,
 }
 
+impl Options {
+    /// The power grasp of `object` ([`plan_grasp`]), searched with the world's friction: the
+    /// search's validity rule (force closure, contacts from more than one side) then judges the
+    /// grasp by the friction the simulation will give it.
+    pub fn plan_grasp(&self, object: &ObjectModel) -> Result<PlannedGrasp, SimError> {
+        let mut params = prehensile_core::search::SearchParams::default();
+        params.contact_model.friction = self.settings.friction;
+        plan_grasp_with(&self.hand, object, params)
+    }
+}
+
 /// One run's outcome.
 #[derive(Debug, Clone, Serialize)]
 pub struct CaseReport {
