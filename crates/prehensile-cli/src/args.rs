@@ -150,7 +150,8 @@ pub struct SimulateArgs {
     /// substep and at least 3, so 3 at 0.2 ms and 8 at 1 ms).
     #[arg(long)]
     pub inner_iterations: Option<usize>,
-    /// Friction coefficient of the world (the grasp scenarios also search their grasps with it).
+    /// Friction coefficient of the world (the grasp scenarios search their grasps at half of it,
+    /// or at all of it when half finds no valid grasp; each case reports `search_friction`).
     #[arg(long, default_value_t = 1.0)]
     pub friction: f64,
     /// Object density, kg/m³. The default (20, like expanded polystyrene) gives objects of

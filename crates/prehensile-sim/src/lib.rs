@@ -33,6 +33,9 @@ pub enum SimError {
     /// A setting or input is out of range.
     #[error("{0}")]
     Settings(String),
+    /// The grasp search found no valid grasp of the object.
+    #[error("{0}")]
+    NoGrasp(String),
     /// The grasp search for the scenario could not start.
     #[error(transparent)]
     Search(#[from] prehensile_core::search::SearchError),

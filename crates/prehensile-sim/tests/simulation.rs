@@ -346,6 +346,23 @@ fn the_hand_lifts_a_light_sphere_and_carries_it() {
 }
 
 #[test]
+fn one_controller_fitted_to_the_sphere_lifts_the_box_and_the_cylinder_too() {
+    // `prehensile simulate`'s default run (Fig. 6). Each grasp is searched at half the world's
+    // friction: searched at the whole of it (friction 1), the cylinder's grasp lies along the
+    // cylinder with straight fingers and the hand drops it.
+    let objects = ["sphere", "box", "cylinder"];
+    let (report, _) =
+        scenarios::run(Scenario::Grasp, &options(&objects, 0.5), &mut |_, _| {}).unwrap();
+    assert_eq!(report.cases.len(), 3);
+    for (case, name) in report.cases.iter().zip(objects) {
+        assert_eq!(case.label, name);
+        assert_eq!(case.held, Some(true), "{case:?}");
+        assert!(case.metrics["object_rise_m"] > 0.08, "{case:?}");
+        assert_eq!(case.metrics["search_friction"], 0.5, "{case:?}");
+    }
+}
+
+#[test]
 fn the_grip_force_grows_with_grip_strength() {
     let (report, _) = scenarios::run(
         Scenario::GripSweep,
@@ -404,10 +421,11 @@ fn the_benchmark_scene_holds_its_object_still() {
 
 #[test]
 fn the_shadow_hand_plans_its_grasp_with_the_worlds_friction_and_lifts_the_sphere() {
-    // The search judges a grasp by the friction it assumes. In the default world (friction 1)
-    // the Shadow hand's sphere grasp, every contact normal within 69–72° of one direction, is
-    // valid (59.6° needed at friction 1) and the hand lifts the ball; in a world of friction 0.5
-    // the same plan is refused (78° needed), and the scenario says why instead of simulating.
+    // The search judges a grasp by the friction it assumes. The Shadow hand has no valid grasp
+    // of the sphere at half the default world's friction (every contact normal within 69–72°
+    // of one direction; 78° needed at 0.5), so the scenario searches again with the whole of
+    // it (59.6° needed at 1) and the hand lifts the ball. In a world of friction 0.5 the same
+    // plan is refused at 0.25 and at 0.5, and the scenario says why instead of simulating.
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
     let shadow = dir.join("../../assets/hands/shadow_hand/reach.xml");
     let options = Options {
@@ -419,6 +437,7 @@ fn the_shadow_hand_plans_its_grasp_with_the_worlds_friction_and_lifts_the_sphere
     assert!(case.finite, "{case:?}");
     assert_eq!(case.held, Some(true), "{case:?}");
     assert!(case.metrics["object_rise_m"] > 0.08, "{case:?}");
+    assert_eq!(case.metrics["search_friction"], 1.0, "{case:?}");
 
     let slippery = Options {
         settings: Settings {

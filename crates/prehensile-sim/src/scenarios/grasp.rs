@@ -103,6 +103,9 @@ pub(crate) fn grasp_case(
         "fingers_touching_planned".into(),
         grasp.fingers_touching as f64,
     );
+    if let Some(friction) = grasp.search_friction {
+        report.metrics.insert("search_friction".into(), friction);
+    }
     let rec = recording(&sim, 1, Some(object));
     Ok((report, rec))
 }

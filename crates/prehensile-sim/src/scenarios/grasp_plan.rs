@@ -24,6 +24,8 @@ pub struct PlannedGrasp {
     pub closed: Vec<f64>,
     /// Fingers touching in the found pose.
     pub fingers_touching: usize,
+    /// The friction coefficient the search judged the grasp with (`None`: no search).
+    pub search_friction: Option<f64>,
 }
 
 /// Searches a power grasp (or the hand's first movement) of `object` from the default shoulder
@@ -45,6 +47,7 @@ pub fn plan_grasp_with(
         .ok_or_else(|| SimError::Hand(format!("hand '{}' has no movement", hand.name())))?;
     let hook = object.center_of_mass();
     let shoulder = default_shoulder(hand, &hook, &Vec3::z());
+    let friction = params.contact_model.friction;
     let mut planner = GraspPlanner::new(hand, object, movement, shoulder, params)?;
     planner.run_to_end();
     let best = planner.best().cloned().ok_or_else(|| {
@@ -52,7 +55,7 @@ pub fn plan_grasp_with(
             Err(reason) => format!(" (the last pose tried: {reason})"),
             Ok(()) => String::new(),
         };
-        SimError::Object(format!(
+        SimError::NoGrasp(format!(
             "no valid {} grasp of '{}' was found for hand '{}'{why}",
             movement.name(),
             object.name(),
@@ -69,6 +72,7 @@ pub fn plan_grasp_with(
         open: joint_angles(hand, movement.start_rotations()),
         closed: joint_angles(hand, &ws.rotations),
         fingers_touching: found.fingers_touching,
+        search_friction: Some(friction),
     })
 }
 
@@ -100,6 +104,7 @@ impl PlannedGrasp {
             open: joint_angles(hand, movement.start_rotations()),
             closed: result.joints.iter().map(|j| j.angle).collect(),
             fingers_touching: result.fingers_touching.len(),
+            search_friction: Some(result.friction),
         })
     }
 
@@ -248,6 +253,7 @@ impl PlannedGrasp {
             open: joint_angles(hand, movement.start_rotations()),
             closed: joint_angles(hand, &rotations),
             fingers_touching: 0,
+            search_friction: None,
         })
     }
 }
