@@ -50,6 +50,12 @@ pub enum HullError {
     /// A coordinate is NaN or infinite.
     #[error("a point has a coordinate that is not finite")]
     NotFinite,
+    /// More points than a ridge's packed key can index (2²⁵ in six dimensions).
+    #[error("{points} points are more than the hull can index")]
+    TooManyPoints {
+        /// Points given.
+        points: usize,
+    },
     /// Rounding defeated the construction even with the input joggled.
     #[error("the hull could not be built reliably in floating point")]
     Numerical,
@@ -63,7 +69,7 @@ const JOGGLE_ATTEMPTS: usize = 4;
 pub struct ConvexHull<const D: usize> {
     facets: Vec<HullFacet<D>>,
     visible: Vec<usize>,
-    ridges: Vec<([u32; D], usize)>,
+    ridges: Vec<u128>,
     order: Vec<u32>,
     interior: Vec<f64>,
     joggled: Vec<[f64; D]>,
@@ -104,6 +110,12 @@ impl<const D: usize> ConvexHull<D> {
         if points.iter().flatten().any(|c| !c.is_finite()) {
             return Err(HullError::NotFinite);
         }
+        let limit = 1u128 << key_bits(D).min(32);
+        if points.len() as u128 >= limit {
+            return Err(HullError::TooManyPoints {
+                points: points.len(),
+            });
+        }
         let scale = points
             .iter()
             .flatten()
@@ -136,28 +148,19 @@ impl<const D: usize> ConvexHull<D> {
     /// Every ridge shared by exactly two facets, and every point inside every facet.
     fn is_sound(&mut self, points: &[[f64; D]], tolerance: f64) -> bool {
         self.ridges.clear();
-        for (k, f) in self.facets.iter().enumerate() {
-            for skip in 0..D {
-                let mut ridge = [u32::MAX; D];
-                let mut n = 0;
-                for (j, &v) in f.vertices.iter().enumerate() {
-                    if j != skip {
-                        ridge[n] = v;
-                        n += 1;
-                    }
-                }
-                self.ridges.push((ridge, k));
-            }
+        for f in &self.facets {
+            self.ridges
+                .extend((0..D).map(|skip| ridge_key(&f.vertices, skip)));
         }
-        self.ridges.sort_unstable_by_key(|r| r.0);
+        self.ridges.sort_unstable();
         let closed = self
             .ridges
             .chunks(2)
-            .all(|pair| pair.len() == 2 && pair[0].0 == pair[1].0)
+            .all(|pair| pair.len() == 2 && pair[0] == pair[1])
             && self
                 .ridges
                 .windows(3)
-                .all(|w| !(w[0].0 == w[1].0 && w[1].0 == w[2].0));
+                .all(|w| !(w[0] == w[1] && w[1] == w[2]));
         closed
             && self.facets.iter().all(|f| {
                 points
@@ -222,32 +225,21 @@ impl<const D: usize> ConvexHull<D> {
             self.ridges.clear();
             for &k in &self.visible {
                 let vertices = self.facets[k].vertices;
-                for skip in 0..D {
-                    let mut ridge = [u32::MAX; D];
-                    let mut n = 0;
-                    for (j, &v) in vertices.iter().enumerate() {
-                        if j != skip {
-                            ridge[n] = v;
-                            n += 1;
-                        }
-                    }
-                    self.ridges.push((ridge, k));
-                }
+                self.ridges
+                    .extend((0..D).map(|skip| ridge_key(&vertices, skip)));
             }
-            self.ridges.sort_unstable_by_key(|r| r.0);
+            self.ridges.sort_unstable();
             for &k in self.visible.iter().rev() {
                 self.facets.swap_remove(k);
             }
             let mut r = 0;
             while r < self.ridges.len() {
                 let mut end = r + 1;
-                while end < self.ridges.len() && self.ridges[end].0 == self.ridges[r].0 {
+                while end < self.ridges.len() && self.ridges[end] == self.ridges[r] {
                     end += 1;
                 }
                 if end - r == 1 {
-                    let mut vertices = self.ridges[r].0;
-                    vertices[D - 1] = i;
-                    vertices.sort_unstable();
+                    let vertices = facet_vertices::<D>(self.ridges[r], i);
                     self.facets.push(facet(points, vertices, &interior));
                 }
                 r = end;
@@ -257,21 +249,46 @@ impl<const D: usize> ConvexHull<D> {
     }
 }
 
-fn dot<const D: usize>(a: &[f64; D], b: &[f64; D]) -> f64 {
-    (0..D).map(|k| a[k] * b[k]).sum()
+/// Bits per vertex index in a ridge key: `D − 1` indices share 128 bits.
+const fn key_bits(d: usize) -> usize {
+    128 / (d - 1)
 }
 
-/// Removes from `r` its components along the orthonormal `basis` (modified Gram–Schmidt, twice
-/// for accuracy).
-fn project_out<const D: usize>(r: &mut [f64; D], basis: &[[f64; D]]) {
-    for _ in 0..2 {
-        for q in basis {
-            let s = dot(r, q);
-            for (c, b) in r.iter_mut().zip(q) {
-                *c -= s * b;
-            }
-        }
+/// The ridge of `vertices` (ascending) without the one at `skip`, packed into one integer (the
+/// indices in order, most significant first): ridges compare and sort as single numbers,
+/// several times faster than as arrays. Indices fit: [`ConvexHull::compute`] refuses more points.
+fn ridge_key<const D: usize>(vertices: &[u32; D], skip: usize) -> u128 {
+    let bits = key_bits(D);
+    vertices
+        .iter()
+        .enumerate()
+        .filter(|&(j, _)| j != skip)
+        .fold(0u128, |key, (_, &v)| {
+            key.checked_shl(bits as u32).unwrap_or(0) | u128::from(v)
+        })
+}
+
+/// The vertices (ascending) of the facet joining the ridge `key` to the point `apex`.
+fn facet_vertices<const D: usize>(key: u128, apex: u32) -> [u32; D] {
+    let bits = key_bits(D);
+    let mask = 1u128.checked_shl(bits as u32).map_or(u128::MAX, |m| m - 1);
+    let mut vertices = [0u32; D];
+    for j in 0..D - 1 {
+        let shift = (bits * (D - 2 - j)) as u32;
+        vertices[j] = (key.checked_shr(shift).unwrap_or(0) & mask) as u32;
     }
+    // Insert the apex in order (the ridge's indices are ascending already).
+    let mut at = D - 1;
+    while at > 0 && vertices[at - 1] > apex {
+        vertices[at] = vertices[at - 1];
+        at -= 1;
+    }
+    vertices[at] = apex;
+    vertices
+}
+
+fn dot<const D: usize>(a: &[f64; D], b: &[f64; D]) -> f64 {
+    (0..D).map(|k| a[k] * b[k]).sum()
 }
 
 /// `D + 1` affinely independent points, each the farthest from the span of those before it.
@@ -321,33 +338,62 @@ fn facet<const D: usize>(
     interior: &[f64; D],
 ) -> HullFacet<D> {
     let base = points[vertices[0] as usize];
-    // Orthonormal basis of the facet's directions.
-    let mut basis = [[0.0; D]; D];
-    let mut rank = 0;
-    for &v in &vertices[1..] {
+    // The normal spans the null space of the facet's D − 1 edge vectors: Gaussian elimination
+    // with full pivoting brings them to echelon form, then the first column left without a
+    // pivot (the last, unless the edges are degenerate) is set to 1 and the pivot columns are
+    // solved back. About a tenth of the work of an orthonormal basis of the edges.
+    let mut rows = [[0.0; D]; D];
+    for (row, &v) in rows.iter_mut().zip(&vertices[1..]) {
         let p = points[v as usize];
-        let mut r: [f64; D] = std::array::from_fn(|k| p[k] - base[k]);
-        project_out(&mut r, &basis[..rank]);
-        let norm = dot(&r, &r).sqrt();
-        if norm > 0.0 {
-            basis[rank] = std::array::from_fn(|k| r[k] / norm);
-            rank += 1;
-        }
+        *row = std::array::from_fn(|k| p[k] - base[k]);
     }
-    // The normal: the coordinate axis that keeps most of itself once the facet's directions are
-    // taken out of it.
+    let edges = D - 1;
+    // Columns are swapped in place (`column` remembers which coordinate each now holds), so
+    // the inner loops run over contiguous memory.
+    let mut column: [usize; D] = std::array::from_fn(|k| k);
+    let mut rank = 0;
+    while rank < edges {
+        let (mut pivot, mut at) = (0.0, (rank, rank));
+        for (r, row) in rows.iter().enumerate().take(edges).skip(rank) {
+            for (c, x) in row.iter().enumerate().skip(rank) {
+                if x.abs() > pivot {
+                    pivot = x.abs();
+                    at = (r, c);
+                }
+            }
+        }
+        if pivot == 0.0 {
+            break;
+        }
+        rows.swap(rank, at.0);
+        if at.1 != rank {
+            for row in rows.iter_mut().take(edges) {
+                row.swap(rank, at.1);
+            }
+            column.swap(rank, at.1);
+        }
+        let lead = rows[rank];
+        for row in rows.iter_mut().take(edges).skip(rank + 1) {
+            let factor = row[rank] / lead[rank];
+            for (x, l) in row.iter_mut().zip(&lead).skip(rank) {
+                *x -= factor * l;
+            }
+        }
+        rank += 1;
+    }
+    let mut solved = [0.0; D];
+    solved[rank] = 1.0;
+    for i in (0..rank).rev() {
+        let row = &rows[i];
+        let sum: f64 = (i + 1..=rank).map(|c| row[c] * solved[c]).sum();
+        solved[i] = -sum / row[i];
+    }
     let mut normal = [0.0; D];
-    let mut kept = -1.0;
-    for axis in 0..D {
-        let mut r = [0.0; D];
-        r[axis] = 1.0;
-        project_out(&mut r, &basis[..rank]);
-        let norm = dot(&r, &r).sqrt();
-        if norm > kept {
-            kept = norm;
-            normal = std::array::from_fn(|k| r[k] / norm);
-        }
+    for (c, &x) in solved.iter().enumerate() {
+        normal[column[c]] = x;
     }
+    let length = dot(&normal, &normal).sqrt();
+    normal = normal.map(|c| c / length);
     let mut offset = vertices
         .iter()
         .map(|&v| dot(&normal, &points[v as usize]))
@@ -367,6 +413,20 @@ fn facet<const D: usize>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_ridge_key_gives_back_its_facet_with_any_apex() {
+        let vertices: [u32; 6] = [3, 17, 40, 41, 1_000_000, (1 << 25) - 1];
+        for skip in 0..6 {
+            let key = ridge_key(&vertices, skip);
+            assert_eq!(facet_vertices::<6>(key, vertices[skip]), vertices);
+            // Ridges differing in one index differ as keys.
+            let mut other = vertices;
+            other[(skip + 1) % 6] -= 1;
+            assert_ne!(ridge_key(&other, skip), key);
+        }
+        assert_eq!(facet_vertices::<3>(ridge_key(&[0, 5, 9], 1), 5), [0, 5, 9]);
+    }
 
     #[test]
     fn a_cube_has_its_six_faces_at_distance_one() {
