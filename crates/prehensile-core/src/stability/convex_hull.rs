@@ -273,9 +273,9 @@ fn facet_vertices<const D: usize>(key: u128, apex: u32) -> [u32; D] {
     let bits = key_bits(D);
     let mask = 1u128.checked_shl(bits as u32).map_or(u128::MAX, |m| m - 1);
     let mut vertices = [0u32; D];
-    for j in 0..D - 1 {
+    for (j, v) in vertices.iter_mut().take(D - 1).enumerate() {
         let shift = (bits * (D - 2 - j)) as u32;
-        vertices[j] = (key.checked_shr(shift).unwrap_or(0) & mask) as u32;
+        *v = (key.checked_shr(shift).unwrap_or(0) & mask) as u32;
     }
     // Insert the apex in order (the ridge's indices are ascending already).
     let mut at = D - 1;
