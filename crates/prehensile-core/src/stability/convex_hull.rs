@@ -501,4 +501,69 @@ mod tests {
         }
         assert!(ridges.values().all(|&n| n == 2));
     }
+
+    #[test]
+    fn a_six_d_hull_has_exactly_the_facets_a_brute_force_search_finds() {
+        // Independent of the construction: a 6-subset of points in general position is a facet
+        // exactly when every other point lies on one side of its hyperplane (normal from
+        // nalgebra's SVD of the edge vectors, not from `facet`).
+        let mut rng = crate::search::random::SplitMix64::new(11);
+        for _ in 0..3 {
+            let points: Vec<[f64; 6]> = (0..11)
+                .map(|_| std::array::from_fn(|_| rng.uniform(-1.0, 1.0)))
+                .collect();
+            let mut expected = Vec::new();
+            let n = points.len();
+            let mut subset = [0usize; 6];
+            fn next(subset: &mut [usize; 6], n: usize) -> bool {
+                for i in (0..6).rev() {
+                    if subset[i] < n - 6 + i {
+                        subset[i] += 1;
+                        for j in i + 1..6 {
+                            subset[j] = subset[j - 1] + 1;
+                        }
+                        return true;
+                    }
+                }
+                false
+            }
+            for (i, s) in subset.iter_mut().enumerate() {
+                *s = i;
+            }
+            loop {
+                let base = nalgebra::SVector::<f64, 6>::from(points[subset[0]]);
+                let edges = nalgebra::DMatrix::from_fn(6, 6, |r, c| {
+                    if r < 5 {
+                        points[subset[r + 1]][c] - base[c]
+                    } else {
+                        0.0
+                    }
+                });
+                let svd = edges.svd(false, true);
+                let v_t = svd.v_t.expect("asked for V");
+                let smallest = (0..6)
+                    .min_by(|&a, &b| svd.singular_values[a].total_cmp(&svd.singular_values[b]))
+                    .unwrap();
+                let normal: Vec<f64> = v_t.row(smallest).iter().copied().collect();
+                let side = |p: &[f64; 6]| (0..6).map(|k| normal[k] * (p[k] - base[k])).sum::<f64>();
+                let others: Vec<f64> = (0..n)
+                    .filter(|i| !subset.contains(i))
+                    .map(|i| side(&points[i]))
+                    .collect();
+                if others.iter().all(|&d| d < 0.0) || others.iter().all(|&d| d > 0.0) {
+                    expected.push(subset.map(|v| v as u32));
+                }
+                if !next(&mut subset, n) {
+                    break;
+                }
+            }
+            let mut hull = ConvexHull::<6>::new();
+            hull.compute(&points).unwrap();
+            let mut found: Vec<[u32; 6]> = hull.facets().iter().map(|f| f.vertices).collect();
+            found.sort_unstable();
+            expected.sort_unstable();
+            assert!(expected.len() > 20, "{} facets", expected.len());
+            assert_eq!(found, expected);
+        }
+    }
 }
