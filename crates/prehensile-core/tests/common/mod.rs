@@ -1,6 +1,8 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
+pub mod stability_cases;
+
 use prehensile_core::math::{Point3, Transform};
 use prehensile_core::search::translate_to_free::{hand_root, translate_to_free, TranslateMode};
 use prehensile_core::shapes::builtin_object;
