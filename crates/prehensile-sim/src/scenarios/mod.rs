@@ -120,7 +120,7 @@ impl Options {
     /// [`SEARCH_FRICTION_SHARE`] of the world's friction and, when that finds no valid grasp,
     /// with the whole of it (the Shadow hand's sphere grasp is valid only there). The search's
     /// validity rule (force closure, contacts from more than one side) then judges the grasp
-    /// by a friction the simulation will give it ([`PlannedGrasp::friction`] says which).
+    /// by a friction the simulation will give it ([`PlannedGrasp::search_friction`] says which).
     pub fn plan_grasp(&self, object: &ObjectModel) -> Result<PlannedGrasp, SimError> {
         let search = |friction: f64| {
             let mut params = prehensile_core::search::SearchParams::default();
