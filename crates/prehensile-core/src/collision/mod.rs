@@ -3,7 +3,7 @@
 //! Two paths: [`TriangleBvh::capsule_touches`] is exact; [`MeshCollider::capsule_touches`] first
 //! asks a [`SignedDistanceGrid`] and falls back to the exact path only when the grid's bounds do
 //! not decide, so both always give the same answer. A mesh that is not a clean closed manifold
-//! has its inside from winding numbers ([`fast_winding_number`]) and only the exact path: a
+//! has its inside from winding numbers (`fast_winding_number`) and only the exact path: a
 //! signed distance whose sign flips across a hole, away from any triangle, is not the Lipschitz
 //! function the grid's bounds need.
 
