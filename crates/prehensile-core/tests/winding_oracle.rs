@@ -119,6 +119,26 @@ fn objects_from_open_overlapping_and_self_intersecting_meshes_get_the_inside_vol
 }
 
 #[test]
+fn an_open_meshs_inside_volume_is_the_same_on_one_thread_and_on_four() {
+    // The lines are integrated in parallel and summed in line order afterwards, so the volume
+    // and centre of mass (hence the hook and every grasp) do not depend on the thread count.
+    let on = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| {
+                let object = ObjectModel::new("open_cup", mesh("open_cup"), None).unwrap();
+                (object.volume(), object.center_of_mass())
+            })
+    };
+    let (one, four) = (on(1), on(4));
+    assert!(one.0 > 0.0);
+    assert_eq!(one.0.to_bits(), four.0.to_bits());
+    assert_eq!(one.1, four.1);
+}
+
+#[test]
 fn the_overlapping_cubes_volume_is_no_longer_counted_twice() {
     let object = ObjectModel::new("cubes", mesh("overlapping_cubes"), None).unwrap();
     assert!(

@@ -11,6 +11,8 @@
 //! bisection. The inside lengths times the cells' areas sum to the volume (midpoint rule across x
 //! and y: within 1% on the shapes of `tests/winding_oracle.rs`).
 
+use rayon::prelude::*;
+
 use crate::math::{Point3, Vec3};
 
 use super::TriangleBvh;
@@ -20,37 +22,62 @@ const SAMPLES_PER_PIECE: usize = 6;
 /// Bisection steps locating where the inside ends between two samples (1/256 of their gap).
 const BISECTIONS: usize = 8;
 
-/// A grid of vertical lines over the box of `exact`: `cells` along its longer horizontal side,
+/// A grid of vertical lines over the box of a mesh: `cells` along its longer horizontal side,
 /// tiling both sides exactly, each line off-centre in its cell by irrational fractions so that
-/// lines miss the diagonals of axis-aligned faces. Calls `visit(x, y, crossings sorted by height)`
-/// for each line, stopping early when it returns `false`; returns the cell area.
-fn for_each_line(
-    exact: &TriangleBvh,
-    cells: usize,
-    mut visit: impl FnMut(f64, f64, &[(f64, i32)]) -> bool,
-) -> f64 {
-    let (lo, hi) = exact.bounds();
-    let size = hi - lo;
-    let longer = size.x.max(size.y);
-    if longer <= 0.0 || cells == 0 {
-        return 0.0;
-    }
-    let count = |side: f64| ((cells as f64 * side / longer).round() as usize).max(1);
-    let (nx, ny) = (count(size.x), count(size.y));
-    let (hx, hy) = (size.x / nx as f64, size.y / ny as f64);
-    let mut crossings: Vec<(f64, i32)> = Vec::new();
-    for i in 0..nx {
-        let x = lo.x + (i as f64 + 0.5 + 1e-3 * std::f64::consts::SQRT_2) * hx;
-        for j in 0..ny {
-            let y = lo.y + (j as f64 + 0.5 + 1e-3 * std::f64::consts::LN_2) * hy;
-            exact.vertical_crossings(x, y, &mut crossings);
-            crossings.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
-            if !visit(x, y, &crossings) {
-                return hx * hy;
-            }
+/// lines miss the diagonals of axis-aligned faces.
+struct LineGrid {
+    lo: Point3,
+    counts: [usize; 2],
+    spacing: [f64; 2],
+}
+
+impl LineGrid {
+    fn new(exact: &TriangleBvh, cells: usize) -> Self {
+        let (lo, hi) = exact.bounds();
+        let size = hi - lo;
+        let longer = size.x.max(size.y);
+        if longer <= 0.0 || cells == 0 {
+            return Self {
+                lo,
+                counts: [0, 0],
+                spacing: [0.0, 0.0],
+            };
+        }
+        let count = |side: f64| ((cells as f64 * side / longer).round() as usize).max(1);
+        let counts = [count(size.x), count(size.y)];
+        Self {
+            lo,
+            counts,
+            spacing: [size.x / counts[0] as f64, size.y / counts[1] as f64],
         }
     }
-    hx * hy
+
+    /// How many lines.
+    fn len(&self) -> usize {
+        self.counts[0] * self.counts[1]
+    }
+
+    /// The area of one line's cell.
+    fn cell_area(&self) -> f64 {
+        self.spacing[0] * self.spacing[1]
+    }
+
+    /// Line `k`'s (x, y), rows of constant x in turn.
+    fn line(&self, k: usize) -> (f64, f64) {
+        let (i, j) = (k / self.counts[1], k % self.counts[1]);
+        (
+            self.lo.x + (i as f64 + 0.5 + 1e-3 * std::f64::consts::SQRT_2) * self.spacing[0],
+            self.lo.y + (j as f64 + 0.5 + 1e-3 * std::f64::consts::LN_2) * self.spacing[1],
+        )
+    }
+
+    /// Line `k`'s crossings of the mesh, sorted by height, into `out`; returns its (x, y).
+    fn crossings(&self, exact: &TriangleBvh, k: usize, out: &mut Vec<(f64, i32)>) -> (f64, f64) {
+        let (x, y) = self.line(k);
+        exact.vertical_crossings(x, y, out);
+        out.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+        (x, y)
+    }
 }
 
 /// Winding numbers along a line from the counts of its crossings (0 below the lowest): the
@@ -72,14 +99,13 @@ fn counted_windings(
 /// corner pushed through a face? Scans `cells` lines for a winding number other than 0 and 1; a
 /// fold thinner than the line spacing can be missed.
 pub fn overlaps_itself(exact: &TriangleBvh, cells: usize) -> bool {
-    let mut found = false;
-    for_each_line(exact, cells, |_, _, crossings| {
-        if let Some(mut windings) = counted_windings(crossings) {
-            found = windings.any(|(z0, z1, w)| z1 > z0 && !(0..=1).contains(&w));
-        }
-        !found
-    });
-    found
+    let lines = LineGrid::new(exact, cells);
+    let mut crossings = Vec::new();
+    (0..lines.len()).any(|k| {
+        lines.crossings(exact, k, &mut crossings);
+        counted_windings(&crossings)
+            .is_some_and(|mut w| w.any(|(z0, z1, w)| z1 > z0 && !(0..=1).contains(&w)))
+    })
 }
 
 /// Volume (m³) and centroid of the points of `exact`'s bounding box that [`TriangleBvh::inside`]
@@ -94,38 +120,50 @@ pub fn inside_volume_and_centroid(
     let longer = (hi.x - lo.x).max(hi.y - lo.y);
     // Samples along a piece between crossings at about the line spacing.
     let step = longer / cells.max(1) as f64;
-    let mut heights: Vec<f64> = Vec::new();
-    let (mut volume, mut moment) = (0.0, Vec3::zeros());
-    let cell_area = for_each_line(exact, cells, |x, y, crossings| {
-        let (mut length, mut height_moment) = (0.0, 0.0);
-        let mut add = |z0: f64, z1: f64| {
-            length += z1 - z0;
-            height_moment += 0.5 * (z1 * z1 - z0 * z0);
-        };
-        match counted_windings(crossings).filter(|_| piecewise_constant) {
-            Some(windings) => {
-                for (z0, z1, winding) in windings {
-                    if winding != 0 {
-                        add(z0, z1);
+    let lines = LineGrid::new(exact, cells);
+    // Lines in parallel (with winding-number queries an open scan's lines take most of its
+    // setup), summed afterwards in line order: the same sums, bit for bit, on any thread count.
+    let per_line: Vec<(f64, f64, f64, f64)> = (0..lines.len())
+        .into_par_iter()
+        .map_init(
+            || (Vec::new(), Vec::new()),
+            |(crossings, heights), k| {
+                let (x, y) = lines.crossings(exact, k, crossings);
+                let (mut length, mut height_moment) = (0.0, 0.0);
+                let mut add = |z0: f64, z1: f64| {
+                    length += z1 - z0;
+                    height_moment += 0.5 * (z1 * z1 - z0 * z0);
+                };
+                match counted_windings(crossings).filter(|_| piecewise_constant) {
+                    Some(windings) => {
+                        for (z0, z1, winding) in windings {
+                            if winding != 0 {
+                                add(z0, z1);
+                            }
+                        }
+                    }
+                    None => {
+                        // The box's floor and ceiling too: over an open cup's mouth the inside
+                        // ends without a crossing.
+                        heights.clear();
+                        heights.extend(crossings.iter().map(|c| c.0));
+                        heights.extend([lo.z, hi.z]);
+                        heights.sort_unstable_by(f64::total_cmp);
+                        for pair in heights.windows(2) {
+                            inside_parts_of_piece(exact, x, y, pair[0], pair[1], step, &mut add);
+                        }
                     }
                 }
-            }
-            None => {
-                // The box's floor and ceiling too: over an open cup's mouth the inside ends
-                // without a crossing.
-                heights.clear();
-                heights.extend(crossings.iter().map(|c| c.0));
-                heights.extend([lo.z, hi.z]);
-                heights.sort_unstable_by(f64::total_cmp);
-                for pair in heights.windows(2) {
-                    inside_parts_of_piece(exact, x, y, pair[0], pair[1], step, &mut add);
-                }
-            }
-        }
+                (x, y, length, height_moment)
+            },
+        )
+        .collect();
+    let (mut volume, mut moment) = (0.0, Vec3::zeros());
+    for (x, y, length, height_moment) in per_line {
         volume += length;
         moment += Vec3::new(x * length, y * length, height_moment);
-        true
-    });
+    }
+    let cell_area = lines.cell_area();
     volume *= cell_area;
     moment *= cell_area;
     let centroid = if volume > 0.0 {
