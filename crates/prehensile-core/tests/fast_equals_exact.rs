@@ -3,6 +3,7 @@
 
 mod common;
 
+use prehensile_core::geometry::closest_point_on_triangle;
 use prehensile_core::math::Point3;
 use prehensile_core::{Capsule, CollisionCounters};
 use proptest::prelude::*;
@@ -32,6 +33,44 @@ proptest! {
             let exact = o.collider().exact().capsule_touches(&capsule.a, &capsule.b, radius);
             let fast = o.capsule_touches(&capsule, &mut CollisionCounters::default());
             prop_assert_eq!(fast, exact, "{} {:?}", object, capsule);
+            Ok(())
+        })?;
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(2000))]
+
+    /// The BVH's bounded nearest-point query (what fills the grid's nodes) finds the distance a
+    /// loop over every triangle finds, and nothing when that is beyond the bound.
+    #[test]
+    fn nearest_surface_point_is_the_nearest_of_every_triangle(
+        object in prop::sample::select(vec!["mug", "torus", "box", "sphere"]),
+        point in prop::array::uniform3(-0.1f64..0.1),
+        bound in prop::sample::select(vec![0.005, 0.02, f64::INFINITY]),
+    ) {
+        thread_local! {
+            static OBJECTS: std::collections::HashMap<&'static str, prehensile_core::ObjectModel> =
+                ["mug", "torus", "box", "sphere"].into_iter().map(|n| (n, common::object(n))).collect();
+        }
+        let p = Point3::from(point) + nalgebra::Vector3::new(0.0, 0.0, 0.05);
+        OBJECTS.with(|objects| {
+            let o = &objects[object];
+            let mesh = o.mesh();
+            let nearest = (0..mesh.triangles.len())
+                .map(|t| {
+                    let [a, b, c] = mesh.corners(t);
+                    (closest_point_on_triangle(&p, &a, &b, &c).0 - p).norm()
+                })
+                .fold(f64::INFINITY, f64::min);
+            match o.collider().exact().closest_point_within(&p, bound) {
+                Some(found) => {
+                    prop_assert!(nearest <= bound);
+                    prop_assert!((found.signed_distance.abs() - nearest).abs() < 1e-12,
+                        "{} {:?}: BVH {} against {}", object, p, found.signed_distance, nearest);
+                }
+                None => prop_assert!(nearest > bound, "{} {:?}: missed {}", object, p, nearest),
+            }
             Ok(())
         })?;
     }

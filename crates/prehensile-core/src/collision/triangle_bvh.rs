@@ -31,6 +31,8 @@ pub struct SurfacePoint {
 
 /// Triangles per leaf at most.
 const LEAF_SIZE: usize = 4;
+/// Sine of the corner angle below which a triangle counts as a sliver for the plane test.
+const SLIVER_SINE: f64 = 1e-3;
 /// Traversal stack depth; a median-split tree over 20 million triangles is about 24 deep.
 const STACK: usize = 64;
 
@@ -52,6 +54,10 @@ pub struct TriangleBvh {
     /// Bounding sphere (centre, radius) of each triangle, to skip exact tests cheaply.
     spheres: Vec<(Point3, f64)>,
     face_normals: Vec<Vec3>,
+    /// Unit normal of each well-shaped triangle, to skip triangles whose plane is already
+    /// farther than the best distance; zero for slivers (corner angles below about 0.06°), whose
+    /// computed normal is too inaccurate to bound anything.
+    plane_normals: Vec<Vec3>,
     edge_normals: Vec<[Vec3; 3]>,
     vertex_normals: Vec<[Vec3; 3]>,
     nodes: Vec<Node>,
@@ -109,6 +115,18 @@ impl TriangleBvh {
             })
             .collect();
 
+        let plane_normals = corners
+            .iter()
+            .map(|[a, b, c]| {
+                let (ab, ac) = (b - a, c - a);
+                let cross = ab.cross(&ac);
+                if cross.norm() > SLIVER_SINE * ab.norm() * ac.norm() {
+                    cross.normalize()
+                } else {
+                    Vec3::zeros()
+                }
+            })
+            .collect();
         let spheres = corners
             .iter()
             .map(|[a, b, c]| {
@@ -124,6 +142,7 @@ impl TriangleBvh {
             corners,
             spheres,
             face_normals,
+            plane_normals,
             edge_normals,
             vertex_normals,
             nodes: Vec::with_capacity(2 * n / LEAF_SIZE + 1),
@@ -297,21 +316,29 @@ impl TriangleBvh {
             f64::INFINITY
         };
         let mut best_t = usize::MAX;
-        let mut stack = [0u32; STACK];
+        // Each entry carries its box's squared distance, computed once when it was pushed.
+        let mut stack = [(0u32, 0.0f64); STACK];
         let mut top = 1;
         while top > 0 {
             top -= 1;
-            let node = self.nodes[stack[top] as usize];
-            if box_distance_squared(&node, p) > best {
+            let (index, gap) = stack[top];
+            if gap > best {
                 continue;
             }
+            let node = &self.nodes[index as usize];
             if node.count > 0 {
                 for &t in &self.order[node.first as usize..(node.first + node.count) as usize] {
-                    let [a, b, c] = &self.corners[t as usize];
+                    let t = t as usize;
+                    let [a, b, c] = &self.corners[t];
+                    // A triangle is no nearer than its plane.
+                    let height = (p - a).dot(&self.plane_normals[t]);
+                    if height * height > best {
+                        continue;
+                    }
                     let d = (closest_point_on_triangle(p, a, b, c).0 - p).norm_squared();
                     if d <= best {
                         best = d;
-                        best_t = t as usize;
+                        best_t = t;
                     }
                 }
             } else {
@@ -321,10 +348,19 @@ impl TriangleBvh {
                     box_distance_squared(&self.nodes[l as usize], p),
                     box_distance_squared(&self.nodes[r as usize], p),
                 );
-                let (near, far) = if dl <= dr { (l, r) } else { (r, l) };
-                stack[top] = far;
-                stack[top + 1] = near;
-                top += 2;
+                let (near, far) = if dl <= dr {
+                    ((l, dl), (r, dr))
+                } else {
+                    ((r, dr), (l, dl))
+                };
+                if far.1 <= best {
+                    stack[top] = far;
+                    top += 1;
+                }
+                if near.1 <= best {
+                    stack[top] = near;
+                    top += 1;
+                }
             }
         }
         (best_t != usize::MAX).then_some(best_t)
@@ -489,4 +525,29 @@ fn segment_meets_box(a: &Point3, b: &Point3, min: &Point3, max: &Point3, r: f64)
         }
     }
     true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A collapsed triangle (its corners on one line) has no plane: the nearest-point query
+    /// must not skip it by the plane of its fallback normal.
+    #[test]
+    fn a_collapsed_triangle_is_found_at_its_distance() {
+        let mesh = TriangleMesh {
+            vertices: vec![
+                Point3::new(0.0, 0.0, 0.0),
+                Point3::new(1.0, 0.0, 1.0),
+                Point3::new(2.0, 0.0, 2.0),
+            ],
+            triangles: vec![[0, 1, 2]],
+        };
+        let bvh = TriangleBvh::new(&mesh);
+        // √2 from the line x = z; 2 from the plane z = 0 of the fallback normal.
+        let found = bvh
+            .closest_point_within(&Point3::new(0.0, 0.0, 2.0), 1.5)
+            .expect("the triangle is within 1.5");
+        assert!((found.signed_distance.abs() - 2f64.sqrt()).abs() < 1e-12);
+    }
 }
