@@ -70,10 +70,12 @@ impl MeshCollider {
     }
 
     /// An upper bound on the smallest signed distance along segment `a–b` (+∞ when the grid
-    /// cannot bound it, or there is no grid), from the distance grid.
-    pub fn segment_clearance_upper_bound(&self, a: &Point3, b: &Point3) -> f64 {
+    /// cannot bound it, or there is no grid), from the distance grid; only a bound below
+    /// `below` is asked for (at or above it, some number at least `below`; pass `f64::INFINITY`
+    /// for the tightest bound the grid gives).
+    pub fn segment_clearance_upper_bound(&self, a: &Point3, b: &Point3, below: f64) -> f64 {
         self.fast.as_ref().map_or(f64::INFINITY, |grid| {
-            grid.segment_clearance_upper_bound(&self.exact, a, b)
+            grid.segment_clearance_upper_bound(&self.exact, a, b, below)
         })
     }
 

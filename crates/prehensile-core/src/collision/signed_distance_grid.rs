@@ -177,19 +177,43 @@ impl SignedDistanceGrid {
 
     /// An upper bound on the smallest signed distance along segment `a–b` (+∞ when the grid
     /// cannot bound it): a capsule of radius `r` around the segment needs to move at least
-    /// `r − bound` to be free of the object.
+    /// `r − bound` to be free of the object. Only a bound below `below` is asked for: when the
+    /// segment's bound is at least `below`, the answer is some number at least `below`, and
+    /// the samples that cannot go lower are skipped without reading (filling) their nodes.
     pub fn segment_clearance_upper_bound(
         &self,
         exact: &TriangleBvh,
         a: &Point3,
         b: &Point3,
+        below: f64,
     ) -> f64 {
+        // Outside the mesh's box, every point of the segment is at least this far from it.
+        let gap = self.box_gap(a, b);
+        if gap > 0.0 && gap >= below {
+            return f64::INFINITY;
+        }
         let length = (b - a).norm();
         let pieces = ((length / self.spacing).ceil() as usize).max(1);
-        (0..=pieces)
-            .filter_map(|k| self.bounds_at(exact, &(a + (b - a) * (k as f64 / pieces as f64))))
-            .map(|(_, upper)| upper)
-            .fold(f64::INFINITY, f64::min)
+        let step = length / pieces as f64;
+        let mut lowest = f64::INFINITY;
+        let mut k = 0;
+        while k <= pieces {
+            let p = a + (b - a) * (k as f64 / pieces as f64);
+            let Some((lower, upper)) = self.bounds_at(exact, &p) else {
+                k += 1;
+                continue;
+            };
+            lowest = lowest.min(upper);
+            // A sample within `reach` of this one is at least `lower − reach` from the surface
+            // (1-Lipschitz), so its upper bound is no lower than the threshold: skip it.
+            let reach = lower - lowest.min(below) - 1e-9;
+            k += if step > 0.0 && reach >= step {
+                (reach / step) as usize + 1
+            } else {
+                1
+            };
+        }
+        lowest
     }
 
     /// Decides from the grid (filled from `exact` where needed) whether capsule `a–b` with
@@ -262,6 +286,57 @@ impl SignedDistanceGrid {
                 to: fraction(last_unsure + self.spacing),
                 outside,
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shapes::builtin_object;
+    use crate::ObjectModel;
+    use proptest::prelude::*;
+
+    /// Every sample's upper bound, as the walk would read them without skipping any.
+    fn every_sample(grid: &SignedDistanceGrid, exact: &TriangleBvh, a: &Point3, b: &Point3) -> f64 {
+        let pieces = (((b - a).norm() / grid.spacing).ceil() as usize).max(1);
+        (0..=pieces)
+            .filter_map(|k| grid.bounds_at(exact, &(a + (b - a) * (k as f64 / pieces as f64))))
+            .map(|(_, upper)| upper)
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(1000))]
+
+        /// Skipping samples that cannot go below the threshold changes no answer below it.
+        #[test]
+        fn the_clearance_bound_skips_only_samples_that_cannot_lower_it(
+            object in prop::sample::select(vec!["mug", "torus"]),
+            a in prop::array::uniform3(-0.1f64..0.1),
+            b in prop::array::uniform3(-0.1f64..0.1),
+            below in prop::sample::select(vec![-0.01, 0.0, 0.004, 0.01, f64::INFINITY]),
+        ) {
+            thread_local! {
+                static OBJECTS: std::collections::HashMap<&'static str, ObjectModel> =
+                    ["mug", "torus"].into_iter()
+                        .map(|n| (n, ObjectModel::new(n, builtin_object(n).unwrap(), None).unwrap()))
+                        .collect();
+            }
+            let lift = Vec3::new(0.0, 0.0, 0.04);
+            let (a, b) = (Point3::from(a) + lift, Point3::from(b) + lift);
+            OBJECTS.with(|objects| {
+                let collider = objects[object].collider();
+                let (grid, exact) = (collider.grid().unwrap(), collider.exact());
+                let all = every_sample(grid, exact, &a, &b);
+                let found = grid.segment_clearance_upper_bound(exact, &a, &b, below);
+                if all < below {
+                    prop_assert_eq!(found, all);
+                } else {
+                    prop_assert!(found >= below, "{} against {} (all samples {})", found, below, all);
+                }
+                Ok(())
+            })?;
         }
     }
 }

@@ -112,7 +112,7 @@ pub fn translate_to_free(
             TranslateMode::Steps { step } => step,
             TranslateMode::Bisection { coarse, .. } => coarse,
             TranslateMode::DistanceBound { coarse, .. } => {
-                coarse.max(distance_still_to_go(hand, object, ws))
+                distance_still_to_go(hand, object, ws, coarse)
             }
         };
         last_touching = Some(offset);
@@ -142,14 +142,19 @@ pub fn translate_to_free(
 }
 
 /// A lower bound on how far the hand, posed in `ws`, must still move to be free: the largest
-/// `radius − clearance upper bound` over its capsules.
-fn distance_still_to_go(hand: &HandModel, object: &ObjectModel, ws: &Workspace) -> f64 {
+/// `radius − clearance upper bound` over its capsules, or `at_least` if that is larger.
+fn distance_still_to_go(
+    hand: &HandModel,
+    object: &ObjectModel,
+    ws: &Workspace,
+    at_least: f64,
+) -> f64 {
     let collider = object.collider();
-    hand.capsules()
-        .iter()
-        .map(|c| {
-            let w = ws.world[c.bone];
-            c.radius - collider.segment_clearance_upper_bound(&(w * c.a), &(w * c.b))
-        })
-        .fold(0.0, f64::max)
+    hand.capsules().iter().fold(at_least, |most, c| {
+        let w = ws.world[c.bone];
+        // Only a clearance below `radius − most` can raise the bound.
+        let clearance =
+            collider.segment_clearance_upper_bound(&(w * c.a), &(w * c.b), c.radius - most);
+        most.max(c.radius - clearance)
+    })
 }
