@@ -1,21 +1,26 @@
 //! Runs whole grasps for profiling (e.g. under `valgrind --tool=callgrind`): the human hand's
-//! power grasp, seeds 1–3, of the built-in object named by the first argument (default sphere).
-use prehensile_core::math::Point3;
-use prehensile_core::search::{GraspPlanner, SearchParams};
+//! power grasp, seeds 1–3, from the default shoulder, of the built-in object or mesh file named
+//! by the first argument (default sphere). The seeds share one object, so the first search fills
+//! the distance grid's nodes it needs and the later ones reuse them.
+use prehensile_core::math::Vec3;
+use prehensile_core::search::{default_shoulder, GraspPlanner, SearchParams};
 use prehensile_core::{shapes, ObjectModel};
 fn main() {
     let hand = prehensile_formats::builtin_hand("human").unwrap();
     let name = std::env::args().nth(1).unwrap_or_else(|| "sphere".into());
-    let mesh = shapes::builtin_object(&name)
-        .expect("a built-in object: sphere, box, cylinder, torus, mug");
-    let object = ObjectModel::new(&name, mesh, None).unwrap();
+    let object = match shapes::builtin_object(&name) {
+        Some(mesh) => ObjectModel::new(&name, mesh, None).unwrap(),
+        None => prehensile_formats::load_object(std::path::Path::new(&name), 1.0)
+            .expect("a built-in object (sphere, box, cylinder, torus, mug) or a mesh file"),
+    };
     let m = hand.movement("power").unwrap();
+    let shoulder = default_shoulder(&hand, &object.center_of_mass(), &Vec3::z());
     for seed in 1..=3 {
         let mut p = GraspPlanner::new(
             &hand,
             &object,
             m,
-            Point3::new(-0.35, -0.2, 0.35),
+            shoulder,
             SearchParams {
                 seed,
                 ..Default::default()
@@ -24,5 +29,12 @@ fn main() {
         .unwrap();
         p.run_to_end();
         eprintln!("seed {seed}: {:?}", p.stats());
+    }
+    if let Some(grid) = object.collider().grid() {
+        eprintln!(
+            "distance grid: {} of {} nodes filled",
+            grid.filled_nodes(),
+            grid.node_count()
+        );
     }
 }
