@@ -3,8 +3,9 @@
 For each case (a set of contacts: point, inward unit normal, capsule radius) the script builds the
 grasp wrench space itself with numpy, as GraspIt! does (Ferrari-Canny L1):
   - each contact's friction cone is linearized by `edges` forces n + mu (cos t t1 + sin t t2), with
-    t1, t2 from Frisvad's construction (the convention Prehensile uses; rotating the edges changes
-    the linearized cone, so both must use the same one);
+    t1 the object's z axis projected on the contact's tangent plane (its x axis on a nearly
+    horizontal surface) and t2 = n x t1 (the convention Prehensile uses; rotating the edges
+    changes the linearized cone, so both must use the same one);
   - a soft pad adds the two wrenches (n, +-mu * patch * radius * n) of torsion about the normal;
   - torques are about the centre `c` and divided by the scale `L`.
 scipy.spatial.ConvexHull (Qhull, option Qt) gives the facets n.x + b <= 0. Then
@@ -37,12 +38,11 @@ from scipy.spatial import ConvexHull, QhullError
 
 
 def tangents(n):
-    sign = 1.0 if n[2] >= 0 else -1.0
-    a = -1.0 / (sign + n[2])
-    b = n[0] * n[1] * a
-    t1 = np.array([1.0 + sign * n[0] * n[0] * a, sign * b, -sign * n[0]])
-    t2 = np.array([b, sign + n[1] * n[1] * a, -n[1]])
-    return t1, t2
+    up = np.array([0.0, 0.0, 1.0]) - n * n[2]
+    if up @ up <= 1e-12:
+        up = np.array([1.0, 0.0, 0.0]) - n * n[0]
+    t1 = up / np.linalg.norm(up)
+    return t1, np.cross(n, t1)
 
 
 def wrenches(contacts, mu, edges, patch, center, scale):
