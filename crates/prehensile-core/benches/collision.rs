@@ -93,6 +93,7 @@ fn bench(c: &mut Criterion) {
         &hook,
         TranslateMode::default(),
         0.3,
+        f64::INFINITY,
         &mut ws,
     )
     .unwrap();

@@ -7,12 +7,17 @@ mod common;
 use std::time::Duration;
 
 use prehensile_core::hand::Joint;
+use prehensile_core::math::Rotation;
 use prehensile_core::math::{Point3, Vec3};
+use prehensile_core::search::initial_approximation::{
+    sample_rotation, InitialApproximation, SAMPLE_COUNT,
+};
+use prehensile_core::search::translate_to_free::translate_to_free;
 use prehensile_core::search::{
     Evaluation, GraspPlanner, GraspResult, PlannerStatus, SearchError, SearchParams, SearchSink,
     SearchStats, StopRule, TranslateMode, SAMPLES_PER_SLICE,
 };
-use prehensile_core::shapes::BUILTIN_OBJECTS;
+use prehensile_core::shapes::{self, BUILTIN_OBJECTS};
 use prehensile_core::{HandModel, ObjectModel, Workspace};
 
 /// Closed fixture meshes with the scale that makes them hand-sized (metres).
@@ -607,6 +612,49 @@ fn human_power_grasps_hold_open_and_non_manifold_meshes() {
         for shoulder in &SHOULDERS[..2] {
             let r = search(&hand, object, "power", *shoulder, 1);
             assert_grasp(object, &r, &format!("{name} from {shoulder:?}"));
+        }
+    }
+}
+
+/// Giving up on samples that cannot beat the best changes nothing: the same start as
+/// backing every sample off in full.
+#[test]
+fn giving_up_early_keeps_the_start_of_the_full_sampling() {
+    let hand = prehensile_formats::builtin_hand("human").unwrap();
+    for name in ["mug", "torus", "box"] {
+        let object = ObjectModel::new(name, shapes::builtin_object(name).unwrap(), None).unwrap();
+        for shoulder in [Point3::new(-0.35, -0.2, 0.35), Point3::new(0.3, 0.1, 0.2)] {
+            let planner = GraspPlanner::new(
+                &hand,
+                &object,
+                hand.movement("power").unwrap(),
+                shoulder,
+                SearchParams::default(),
+            )
+            .unwrap();
+            let ctx = planner.context();
+            let mut ws = Workspace::new(&hand);
+            let mut sampling = InitialApproximation::new();
+            assert!(sampling.advance(ctx, &mut ws, SAMPLE_COUNT));
+            let mut full: Option<(Rotation, f64)> = None;
+            for k in 0..SAMPLE_COUNT {
+                let rotation = sample_rotation(ctx, k);
+                let freed = translate_to_free(
+                    ctx.hand,
+                    ctx.object,
+                    ctx.movement,
+                    &ctx.hook_frame(&rotation),
+                    ctx.translate,
+                    ctx.max_offset,
+                    f64::INFINITY,
+                    &mut ws,
+                );
+                if let Some(o) = freed.filter(|&o| full.is_none_or(|(_, b)| o < b)) {
+                    full = Some((rotation, o));
+                }
+            }
+            assert_eq!(sampling.best(), full, "{name} from {shoulder:?}");
+            assert!(full.is_some());
         }
     }
 }

@@ -34,8 +34,10 @@ impl InitialApproximation {
     pub fn advance(&mut self, ctx: &EvaluationContext, ws: &mut Workspace, count: usize) -> bool {
         let end = (self.done + count).min(SAMPLE_COUNT);
         for k in self.done..end {
-            let rotation = sample(ctx, k);
+            let rotation = sample_rotation(ctx, k);
             let hook = ctx.hook_frame(&rotation);
+            // Only a back-off smaller than the best so far matters: give up once the hand
+            // still touches there.
             let freed = translate_to_free(
                 ctx.hand,
                 ctx.object,
@@ -43,6 +45,7 @@ impl InitialApproximation {
                 &hook,
                 ctx.translate,
                 ctx.max_offset,
+                self.best.map_or(f64::INFINITY, |(_, b)| b),
                 ws,
             );
             // Strictly better only: ties keep the earlier sample (the starting position first).
@@ -66,9 +69,9 @@ impl InitialApproximation {
     }
 }
 
-/// Sample `k`: the starting position for 0, else `start · Rz·Ry·Rx` on the grid over the wrist
-/// range.
-fn sample(ctx: &EvaluationContext, k: usize) -> Rotation {
+/// Sample `k` of [`SAMPLE_COUNT`]: the starting position for 0, else `start · Rz·Ry·Rx` on the
+/// grid over the wrist range.
+pub fn sample_rotation(ctx: &EvaluationContext, k: usize) -> Rotation {
     if k == 0 {
         return ctx.start;
     }

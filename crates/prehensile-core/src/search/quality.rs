@@ -328,6 +328,7 @@ impl EvaluationContext<'_> {
             &hook,
             self.translate,
             self.max_offset,
+            f64::INFINITY,
             ws,
         ) else {
             eval.validity = Err(Invalid::NotFreed {

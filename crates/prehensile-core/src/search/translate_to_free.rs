@@ -91,7 +91,9 @@ impl Default for TranslateMode {
 }
 
 /// Alg. 3: back the hand off until its start pose is free; returns the offset, or `None` if it is
-/// still touching after `max_offset` metres.
+/// still touching after `max_offset` metres, or still touching at `give_up_at` metres or more
+/// (every offset it could then return is larger; `f64::INFINITY` never gives up early).
+#[allow(clippy::too_many_arguments)]
 pub fn translate_to_free(
     hand: &HandModel,
     object: &ObjectModel,
@@ -99,6 +101,7 @@ pub fn translate_to_free(
     hook: &Transform,
     mode: TranslateMode,
     max_offset: f64,
+    give_up_at: f64,
     ws: &mut Workspace,
 ) -> Option<f64> {
     let touches = |offset: f64, ws: &mut Workspace| {
@@ -108,6 +111,10 @@ pub fn translate_to_free(
     let mut offset = 0.0;
     let mut last_touching = None;
     while touches(offset, ws) {
+        // The answer lies beyond the last touching offset.
+        if offset >= give_up_at {
+            return None;
+        }
         let jump = match mode {
             TranslateMode::Steps { step } => step,
             TranslateMode::Bisection { coarse, .. } => coarse,

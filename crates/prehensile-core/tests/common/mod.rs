@@ -54,6 +54,7 @@ pub fn free_root(
         &hook,
         TranslateMode::Steps { step: 0.001 },
         0.3,
+        f64::INFINITY,
         ws,
     )
     .unwrap();
