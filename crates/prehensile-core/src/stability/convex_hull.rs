@@ -7,7 +7,10 @@
 //! (`tools/oracle/stability_oracle.py`) to 1e-9 on 6-D wrench sets.
 //!
 //! Each point is added in turn: the facets it sees are removed and every ridge on the border of
-//! the removed set (the horizon) is joined to the point. Wrench sets are full of coplanar points
+//! the removed set (the horizon) is joined to the point. Facets know their neighbours, so the
+//! horizon is read off the seen facets' links, and a new facet's plane comes from the pencil of
+//! its horizon ridge (a combination of the two old facets' planes that passes through the
+//! point), checked against its vertices and solved afresh by elimination when it strays. Wrench sets are full of coplanar points
 //! (a friction cone's edges), where rounding can make a point "see" a set of facets with holes and
 //! leave a hull that is not convex; so, as Qhull's `QJ` option does, the input is first joggled
 //! by 1e-10 of its size (deterministically, far above the 1e-13 within which a point counts as
@@ -68,6 +71,18 @@ const JOGGLE_ATTEMPTS: usize = 4;
 #[derive(Debug, Clone, Default)]
 pub struct ConvexHull<const D: usize> {
     facets: Vec<HullFacet<D>>,
+    /// For each facet, the facet across the ridge opposite each of its vertices.
+    neighbors: Vec<[u32; D]>,
+    /// Per facet: seen from the point being added.
+    seen: Vec<bool>,
+    /// Per facet: removed, to be dropped.
+    dead: Vec<bool>,
+    /// Per facet: its index after the dead ones are dropped.
+    remap: Vec<u32>,
+    /// The horizon: (seen facet, its vertex slot whose opposite ridge borders an unseen facet).
+    horizon: Vec<(u32, usize)>,
+    /// Ridges of the new facets through the added point: (key, new facet, vertex slot).
+    fresh: Vec<(u128, u32, usize)>,
     visible: Vec<usize>,
     ridges: Vec<u128>,
     order: Vec<u32>,
@@ -80,6 +95,12 @@ impl<const D: usize> ConvexHull<D> {
     pub fn new() -> Self {
         Self {
             facets: Vec::new(),
+            neighbors: Vec::new(),
+            seen: Vec::new(),
+            dead: Vec::new(),
+            remap: Vec::new(),
+            horizon: Vec::new(),
+            fresh: Vec::new(),
             visible: Vec::new(),
             ridges: Vec::new(),
             order: Vec::new(),
@@ -207,46 +228,184 @@ impl<const D: usize> ConvexHull<D> {
         self.order
             .sort_by(|a, b| distance(b).total_cmp(&distance(a)).then(a.cmp(b)));
 
+        // Adjacency of the simplex's facets.
+        self.neighbors.clear();
+        self.neighbors.resize(self.facets.len(), [u32::MAX; D]);
+        self.fresh.clear();
+        for (f, facet) in self.facets.iter().enumerate() {
+            self.fresh
+                .extend((0..D).map(|j| (ridge_key(&facet.vertices, j), f as u32, j)));
+        }
+        link_pairs(&mut self.fresh, &mut self.neighbors)?;
+
+        // Facets seen from a point are removed: marked dead at once, dropped when the dead
+        // outnumber the live ones (and at the end), so neighbours' indices stay put meanwhile.
+        self.seen.clear();
+        self.seen.resize(self.facets.len(), false);
+        self.dead.clear();
+        self.dead.resize(self.facets.len(), false);
+        let mut dead = 0;
         for oi in 0..self.order.len() {
             let i = self.order[oi];
             let p = &points[i as usize];
             self.visible.clear();
-            self.visible.extend(
-                self.facets
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, f)| dot(&f.normal, p) - f.offset > see_tolerance)
-                    .map(|(k, _)| k),
-            );
+            for (k, f) in self.facets.iter().enumerate() {
+                if !self.dead[k] && dot(&f.normal, p) - f.offset > see_tolerance {
+                    self.seen[k] = true;
+                    self.visible.push(k);
+                }
+            }
             if self.visible.is_empty() {
                 continue;
             }
-            // Ridges of the seen facets; those seen once border an unseen facet: the horizon.
-            self.ridges.clear();
+            // The horizon: ridges between a seen facet and an unseen one.
+            self.horizon.clear();
             for &k in &self.visible {
-                let vertices = self.facets[k].vertices;
-                self.ridges
-                    .extend((0..D).map(|skip| ridge_key(&vertices, skip)));
-            }
-            self.ridges.sort_unstable();
-            for &k in self.visible.iter().rev() {
-                self.facets.swap_remove(k);
-            }
-            let mut r = 0;
-            while r < self.ridges.len() {
-                let mut end = r + 1;
-                while end < self.ridges.len() && self.ridges[end] == self.ridges[r] {
-                    end += 1;
+                for (j, &across) in self.neighbors[k].iter().enumerate() {
+                    if !self.seen[across as usize] {
+                        self.horizon.push((k as u32, j));
+                    }
                 }
-                if end - r == 1 {
-                    let vertices = facet_vertices::<D>(self.ridges[r], i);
-                    self.facets.push(facet(points, vertices, &interior));
-                }
-                r = end;
+            }
+            // A new facet joins each horizon ridge to the point; its plane is the one of the
+            // pencil through that ridge (a combination of the seen and the unseen facet's
+            // planes) that passes through the point.
+            self.fresh.clear();
+            for h in 0..self.horizon.len() {
+                let (k, j) = self.horizon[h];
+                let old = self.facets[k as usize];
+                let across = self.neighbors[k as usize][j];
+                let mut vertices = old.vertices;
+                vertices[j] = i;
+                vertices.sort_unstable();
+                let new = self.facets.len() as u32;
+                let facet = pencil_facet(
+                    points,
+                    vertices,
+                    &old,
+                    &self.facets[across as usize],
+                    p,
+                    &interior,
+                    1e-11 * scale,
+                )
+                .unwrap_or_else(|| facet(points, vertices, &interior));
+                self.facets.push(facet);
+                self.seen.push(false);
+                self.dead.push(false);
+                // Across the ridge without the point: the unseen facet, which now borders it.
+                let mut links = [u32::MAX; D];
+                let apex = vertices
+                    .iter()
+                    .position(|&v| v == i)
+                    .expect("the apex is a vertex");
+                links[apex] = across;
+                let back = self.neighbors[across as usize]
+                    .iter()
+                    .position(|&n| n == k)
+                    .ok_or(HullError::Numerical)?;
+                self.neighbors[across as usize][back] = new;
+                self.neighbors.push(links);
+                self.fresh.extend(
+                    (0..D)
+                        .filter(|&slot| slot != apex)
+                        .map(|slot| (ridge_key(&vertices, slot), new, slot)),
+                );
+            }
+            link_pairs(&mut self.fresh, &mut self.neighbors)?;
+            for &k in &self.visible {
+                self.seen[k] = false;
+                self.dead[k] = true;
+            }
+            dead += self.visible.len();
+            if 2 * dead > self.facets.len() {
+                self.drop_dead();
+                dead = 0;
             }
         }
+        self.drop_dead();
         Ok(())
     }
+
+    /// Removes the dead facets, renumbering the others and their neighbours.
+    fn drop_dead(&mut self) {
+        self.remap.clear();
+        let mut kept = 0u32;
+        for &dead in &self.dead {
+            self.remap.push(kept);
+            kept += u32::from(!dead);
+        }
+        let mut at = 0;
+        for k in 0..self.facets.len() {
+            if !self.dead[k] {
+                self.facets[at] = self.facets[k];
+                let links = self.neighbors[k];
+                for (slot, n) in self.neighbors[at].iter_mut().zip(links) {
+                    *slot = self.remap[n as usize];
+                }
+                at += 1;
+            }
+        }
+        self.facets.truncate(at);
+        self.neighbors.truncate(at);
+        self.seen.truncate(at);
+        self.dead.clear();
+        self.dead.resize(at, false);
+    }
+}
+
+/// Links the facets of `ridges` (key, facet, vertex slot) that share a ridge: each key must
+/// appear exactly twice.
+fn link_pairs<const D: usize>(
+    ridges: &mut [(u128, u32, usize)],
+    neighbors: &mut [[u32; D]],
+) -> Result<(), HullError> {
+    ridges.sort_unstable_by_key(|r| r.0);
+    for pair in ridges.chunks(2) {
+        let [(a, fa, ja), (b, fb, jb)] = pair else {
+            return Err(HullError::Numerical);
+        };
+        if a != b {
+            return Err(HullError::Numerical);
+        }
+        neighbors[*fa as usize][*ja] = *fb;
+        neighbors[*fb as usize][*jb] = *fa;
+    }
+    Ok(())
+}
+
+/// The facet through `vertices` (a ridge of `seen` and of `unseen`, plus `apex`) from the pencil
+/// of hyperplanes through that ridge: `−d₂·(n₁, o₁) + d₁·(n₂, o₂)`, where `dᵢ` is the apex's height
+/// over each plane, passes through the apex. A few dozen flops against an elimination; `None`
+/// when the result is not within `tolerance` of every vertex (old planes' rounding, or planes
+/// too close to parallel), so that the caller solves it afresh.
+fn pencil_facet<const D: usize>(
+    points: &[[f64; D]],
+    vertices: [u32; D],
+    seen: &HullFacet<D>,
+    unseen: &HullFacet<D>,
+    apex: &[f64; D],
+    interior: &[f64; D],
+    tolerance: f64,
+) -> Option<HullFacet<D>> {
+    let d1 = dot(&seen.normal, apex) - seen.offset;
+    let d2 = dot(&unseen.normal, apex) - unseen.offset;
+    let mut normal: [f64; D] =
+        std::array::from_fn(|k| -d2 * seen.normal[k] + d1 * unseen.normal[k]);
+    let length = dot(&normal, &normal).sqrt();
+    if length.is_nan() || length <= 0.0 {
+        return None;
+    }
+    normal = normal.map(|c| c / length);
+    let heights = vertices.map(|v| dot(&normal, &points[v as usize]));
+    let offset = heights.iter().sum::<f64>() / D as f64;
+    if heights.iter().any(|h| (h - offset).abs() > tolerance) || dot(&normal, interior) >= offset {
+        return None;
+    }
+    Some(HullFacet {
+        vertices,
+        normal,
+        offset,
+    })
 }
 
 /// Bits per vertex index in a ridge key: `D − 1` indices share 128 bits.
@@ -266,25 +425,6 @@ fn ridge_key<const D: usize>(vertices: &[u32; D], skip: usize) -> u128 {
         .fold(0u128, |key, (_, &v)| {
             key.checked_shl(bits as u32).unwrap_or(0) | u128::from(v)
         })
-}
-
-/// The vertices (ascending) of the facet joining the ridge `key` to the point `apex`.
-fn facet_vertices<const D: usize>(key: u128, apex: u32) -> [u32; D] {
-    let bits = key_bits(D);
-    let mask = 1u128.checked_shl(bits as u32).map_or(u128::MAX, |m| m - 1);
-    let mut vertices = [0u32; D];
-    for (j, v) in vertices.iter_mut().take(D - 1).enumerate() {
-        let shift = (bits * (D - 2 - j)) as u32;
-        *v = (key.checked_shr(shift).unwrap_or(0) & mask) as u32;
-    }
-    // Insert the apex in order (the ridge's indices are ascending already).
-    let mut at = D - 1;
-    while at > 0 && vertices[at - 1] > apex {
-        vertices[at] = vertices[at - 1];
-        at -= 1;
-    }
-    vertices[at] = apex;
-    vertices
 }
 
 fn dot<const D: usize>(a: &[f64; D], b: &[f64; D]) -> f64 {
@@ -415,17 +555,27 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_ridge_key_gives_back_its_facet_with_any_apex() {
+    fn two_facets_sharing_a_ridge_give_it_one_key_and_other_ridges_other_keys() {
         let vertices: [u32; 6] = [3, 17, 40, 41, 1_000_000, (1 << 25) - 1];
         for skip in 0..6 {
             let key = ridge_key(&vertices, skip);
-            assert_eq!(facet_vertices::<6>(key, vertices[skip]), vertices);
+            // The same ridge seen from a facet whose sixth vertex is another point.
+            let mut other: Vec<u32> = vertices
+                .iter()
+                .enumerate()
+                .filter(|&(j, _)| j != skip)
+                .map(|(_, &v)| v)
+                .collect();
+            other.push(7);
+            other.sort_unstable();
+            let other: [u32; 6] = other.try_into().unwrap();
+            let at = other.iter().position(|&v| v == 7).unwrap();
+            assert_eq!(ridge_key(&other, at), key);
             // Ridges differing in one index differ as keys.
-            let mut other = vertices;
-            other[(skip + 1) % 6] -= 1;
-            assert_ne!(ridge_key(&other, skip), key);
+            let mut moved = vertices;
+            moved[(skip + 1) % 6] -= 1;
+            assert_ne!(ridge_key(&moved, skip), key);
         }
-        assert_eq!(facet_vertices::<3>(ridge_key(&[0, 5, 9], 1), 5), [0, 5, 9]);
     }
 
     #[test]
