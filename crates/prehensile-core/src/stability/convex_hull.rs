@@ -10,13 +10,15 @@
 //! the removed set (the horizon) is joined to the point. Facets know their neighbours, so the
 //! horizon is read off the seen facets' links, and a new facet's plane comes from the pencil of
 //! its horizon ridge (a combination of the two old facets' planes that passes through the
-//! point), checked against its vertices and solved afresh by elimination when it strays. Wrench sets are full of coplanar points
-//! (a friction cone's edges), where rounding can make a point "see" a set of facets with holes and
-//! leave a hull that is not convex; so, as Qhull's `QJ` option does, the input is first joggled
-//! by 1e-10 of its size (deterministically, far above the 1e-13 within which a point counts as
-//! on a facet), and the result is checked (closed, every point inside every facet) and rebuilt
-//! with a ten times larger joggle if it fails. Buffers are kept
-//! between calls: a warm hull allocates only when it grows larger than before.
+//! point), checked against its vertices and solved afresh by elimination when it strays.
+//!
+//! Wrench sets are full of coplanar points (a friction cone's edges), where rounding can make a
+//! point "see" a set of facets with holes and leave a hull that is not convex; so, as Qhull's
+//! `QJ` option does, the input is first joggled by 1e-10 of its size (deterministically, far
+//! above the 1e-13 within which a point counts as on a facet), and the result is checked
+//! (closed, every point inside every facet) and rebuilt with a ten times larger joggle if it
+//! fails. Buffers are kept between calls: a warm hull allocates only when it grows larger than
+//! before.
 
 /// One facet: `D` vertices (indices into the input, sorted), the unit outward normal and the
 /// offset, so that every point `x` of the hull has `normal · x <= offset`.
