@@ -23,7 +23,7 @@ use crate::simulation::{Settings, Simulation, StateChange};
 use crate::SimError;
 
 pub use grasp_plan::{
-    grasp_arm, plan_grasp, plan_grasp_with, GraspTimes, PlannedGrasp, APPROACH, LIFT,
+    grasp_arm, plan_grasp, plan_grasp_with, GraspTimes, PlannedGrasp, APPROACH, EXAMPLE_PRESS, LIFT,
 };
 pub use held_still::held_still;
 pub use hold_test::{
