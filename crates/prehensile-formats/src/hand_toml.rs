@@ -39,7 +39,10 @@ pub fn parse_hand_toml(text: &str, source_name: &str) -> Result<HandModel, Forma
         ),
         None => FormatError::new(source_name, e.message()),
     })?;
-    HandModel::from_description(&desc).map_err(|e| FormatError::caused_by(source_name, e))
+    let mut hand =
+        HandModel::from_description(&desc).map_err(|e| FormatError::caused_by(source_name, e))?;
+    prehensile_core::movement_derivation::add_derived_movements(&mut hand);
+    Ok(hand)
 }
 
 /// Reads a hand file: `.toml` (our format), `.urdf`, `.xml` / `.mjcf` (MuJoCo) or `.glb` /
@@ -109,6 +112,23 @@ mod tests {
             assert!(hand.movement("close").is_some(), "{name}");
         }
         assert!(builtin_hand("octopus").is_none());
+    }
+
+    #[test]
+    fn a_hand_with_a_thumb_gets_the_movements_its_file_does_not_write() {
+        let cartoon = builtin_hand("cartoon4").unwrap();
+        for name in ["power", "precision"] {
+            assert!(cartoon.movement(name).is_some(), "cartoon4 lacks {name}");
+        }
+        // No thumb, nothing derived.
+        assert!(builtin_hand("robot3").unwrap().movement("power").is_none());
+        // A movement the file writes is kept as written.
+        let human = builtin_hand("human").unwrap();
+        let derived = prehensile_core::movement_derivation::derive_power(&human).unwrap();
+        assert_ne!(
+            human.movement("power").unwrap().end_angles(),
+            derived.end_angles()
+        );
     }
 
     #[test]

@@ -415,6 +415,18 @@ fn the_controller_fitted_to_the_cylinders_own_grasp_lifts_it() {
 }
 
 #[test]
+fn the_cartoon_hand_lifts_the_cylinder_with_its_derived_power_grasp() {
+    // cartoon4's file writes only `close`, a fingertip grasp on the cylinder's top that dropped
+    // it; its derived power movement wraps it, thumb opposite the fingers.
+    let mut options = options(&["cylinder"], 0.5);
+    options.hand = prehensile_formats::builtin_hand("cartoon4").unwrap();
+    let (report, _) = scenarios::run(Scenario::Grasp, &options, &mut |_, _| {}).unwrap();
+    let case = &report.cases[0];
+    assert_eq!(case.held, Some(true), "{case:?}");
+    assert!(case.metrics["object_rise_m"] > 0.08, "{case:?}");
+}
+
+#[test]
 fn the_grip_force_grows_with_grip_strength() {
     let (report, _) = scenarios::run(
         Scenario::GripSweep,
