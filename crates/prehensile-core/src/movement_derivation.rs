@@ -63,10 +63,14 @@ pub fn index(hand: &HandModel, thumb: usize) -> Option<usize> {
 /// Adds the derived `power` and `precision` movements to a hand that has no movement of that
 /// name (an imported hand has only `close`); a hand without a thumb gets neither.
 pub fn add_derived_movements(hand: &mut HandModel) {
-    let derived = [derive_power(hand), derive_precision(hand)];
-    for m in derived.into_iter().flatten() {
-        if hand.movement(m.name()).is_none() {
-            hand.movements.push(m);
+    let derivations: [(&str, fn(&HandModel) -> Option<GraspMovement>); 2] =
+        [("power", derive_power), ("precision", derive_precision)];
+    for (name, derive) in derivations {
+        // Derived only when missing: each derivation is a descent over every finger's joints.
+        if hand.movement(name).is_none() {
+            if let Some(m) = derive(hand) {
+                hand.movements.push(m);
+            }
         }
     }
 }
