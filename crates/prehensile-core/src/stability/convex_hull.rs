@@ -66,6 +66,9 @@ pub enum HullError {
     Numerical,
 }
 
+/// No facet: an `assigned` entry of a point inside the hull or already added.
+const NONE: u32 = u32::MAX;
+
 /// Attempts with a joggle ten times larger each (1e-10 to 1e-7 of the input's size).
 const JOGGLE_ATTEMPTS: usize = 4;
 
@@ -77,6 +80,12 @@ pub struct ConvexHull<const D: usize> {
     neighbors: Vec<[u32; D]>,
     /// Per facet: seen from the point being added.
     seen: Vec<bool>,
+    /// Per facet: tested and not seen from the point being added.
+    unseen: Vec<bool>,
+    /// The facets in `unseen`, to clear it.
+    probed: Vec<usize>,
+    /// Per input point: a live facet it sees, or [`NONE`] (inside, or already added).
+    assigned: Vec<u32>,
     /// Per facet: removed, to be dropped.
     dead: Vec<bool>,
     /// Per facet: its index after the dead ones are dropped.
@@ -99,6 +108,9 @@ impl<const D: usize> ConvexHull<D> {
             facets: Vec::new(),
             neighbors: Vec::new(),
             seen: Vec::new(),
+            unseen: Vec::new(),
+            probed: Vec::new(),
+            assigned: Vec::new(),
             dead: Vec::new(),
             remap: Vec::new(),
             horizon: Vec::new(),
@@ -240,26 +252,60 @@ impl<const D: usize> ConvexHull<D> {
         }
         link_pairs(&mut self.fresh, &mut self.neighbors)?;
 
+        // Each point outside the hull keeps one facet it sees (Quickhull's outside sets,
+        // Barber et al. 1996); the others it sees are found from that one across ridges, since
+        // they form a connected region, instead of testing every facet.
+        let sees = |f: &HullFacet<D>, p: &[f64; D]| dot(&f.normal, p) - f.offset > see_tolerance;
+        self.assigned.clear();
+        self.assigned.resize(points.len(), NONE);
+        for &i in &self.order {
+            let p = &points[i as usize];
+            if let Some(k) = self.facets.iter().position(|f| sees(f, p)) {
+                self.assigned[i as usize] = k as u32;
+            }
+        }
+
         // Facets seen from a point are removed: marked dead at once, dropped when the dead
         // outnumber the live ones (and at the end), so neighbours' indices stay put meanwhile.
         self.seen.clear();
         self.seen.resize(self.facets.len(), false);
+        self.unseen.clear();
+        self.unseen.resize(self.facets.len(), false);
         self.dead.clear();
         self.dead.resize(self.facets.len(), false);
         let mut dead = 0;
         for oi in 0..self.order.len() {
             let i = self.order[oi];
-            let p = &points[i as usize];
-            self.visible.clear();
-            for (k, f) in self.facets.iter().enumerate() {
-                if !self.dead[k] && dot(&f.normal, p) - f.offset > see_tolerance {
-                    self.seen[k] = true;
-                    self.visible.push(k);
-                }
-            }
-            if self.visible.is_empty() {
+            let start = self.assigned[i as usize];
+            if start == NONE {
                 continue;
             }
+            self.assigned[i as usize] = NONE;
+            let p = &points[i as usize];
+            self.visible.clear();
+            self.visible.push(start as usize);
+            self.seen[start as usize] = true;
+            let mut next = 0;
+            while let Some(&k) = self.visible.get(next) {
+                next += 1;
+                for &across in &self.neighbors[k] {
+                    let n = across as usize;
+                    if self.seen[n] || self.unseen[n] {
+                        continue;
+                    }
+                    if sees(&self.facets[n], p) {
+                        self.seen[n] = true;
+                        self.visible.push(n);
+                    } else {
+                        self.unseen[n] = true;
+                        self.probed.push(n);
+                    }
+                }
+            }
+            for &n in &self.probed {
+                self.unseen[n] = false;
+            }
+            self.probed.clear();
             // The horizon: ridges between a seen facet and an unseen one.
             self.horizon.clear();
             for &k in &self.visible {
@@ -273,6 +319,7 @@ impl<const D: usize> ConvexHull<D> {
             // pencil through that ridge (a combination of the seen and the unseen facet's
             // planes) that passes through the point.
             self.fresh.clear();
+            let first_new = self.facets.len();
             for h in 0..self.horizon.len() {
                 let (k, j) = self.horizon[h];
                 let old = self.facets[k as usize];
@@ -293,6 +340,7 @@ impl<const D: usize> ConvexHull<D> {
                 .unwrap_or_else(|| facet(points, vertices, &interior));
                 self.facets.push(facet);
                 self.seen.push(false);
+                self.unseen.push(false);
                 self.dead.push(false);
                 // Across the ridge without the point: the unseen facet, which now borders it.
                 let mut links = [u32::MAX; D];
@@ -314,6 +362,16 @@ impl<const D: usize> ConvexHull<D> {
                 );
             }
             link_pairs(&mut self.fresh, &mut self.neighbors)?;
+            // A point that saw a removed facet sees one of the new ones, or is now inside.
+            for &j in &self.order[oi + 1..] {
+                let a = self.assigned[j as usize];
+                if a != NONE && self.seen[a as usize] {
+                    let q = &points[j as usize];
+                    self.assigned[j as usize] = (first_new..self.facets.len())
+                        .find(|&k| sees(&self.facets[k], q))
+                        .map_or(NONE, |k| k as u32);
+                }
+            }
             for &k in &self.visible {
                 self.seen[k] = false;
                 self.dead[k] = true;
@@ -350,6 +408,11 @@ impl<const D: usize> ConvexHull<D> {
         self.facets.truncate(at);
         self.neighbors.truncate(at);
         self.seen.truncate(at);
+        self.unseen.truncate(at);
+        // Points are assigned only to live facets.
+        for a in self.assigned.iter_mut().filter(|a| **a != NONE) {
+            *a = self.remap[*a as usize];
+        }
         self.dead.clear();
         self.dead.resize(at, false);
     }
