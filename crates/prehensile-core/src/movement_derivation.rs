@@ -63,7 +63,8 @@ pub fn index(hand: &HandModel, thumb: usize) -> Option<usize> {
 /// Adds the derived `power` and `precision` movements to a hand that has no movement of that
 /// name (an imported hand has only `close`); a hand without a thumb gets neither.
 pub fn add_derived_movements(hand: &mut HandModel) {
-    let derivations: [(&str, fn(&HandModel) -> Option<GraspMovement>); 2] =
+    type Derivation = fn(&HandModel) -> Option<GraspMovement>;
+    let derivations: [(&str, Derivation); 2] =
         [("power", derive_power), ("precision", derive_precision)];
     for (name, derive) in derivations {
         // Derived only when missing: each derivation is a descent over every finger's joints.
