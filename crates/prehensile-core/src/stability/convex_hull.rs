@@ -98,6 +98,8 @@ pub struct ConvexHull<const D: usize> {
     ridges: Vec<u128>,
     /// Open-addressing table of [`pair_up`].
     table: Vec<u32>,
+    /// The points' coordinates, first every x, then every y, …
+    by_axis: Vec<f64>,
     order: Vec<u32>,
     interior: Vec<f64>,
     joggled: Vec<[f64; D]>,
@@ -120,6 +122,7 @@ impl<const D: usize> ConvexHull<D> {
             visible: Vec::new(),
             ridges: Vec::new(),
             table: Vec::new(),
+            by_axis: Vec::new(),
             order: Vec::new(),
             interior: vec![0.0; D],
             joggled: Vec::new(),
@@ -198,12 +201,32 @@ impl<const D: usize> ConvexHull<D> {
             &mut self.table,
             |_, _| {},
         );
-        closed
-            && self.facets.iter().all(|f| {
-                points
-                    .iter()
-                    .all(|p| dot(&f.normal, p) <= f.offset + tolerance)
-            })
+        if !closed {
+            return false;
+        }
+        // The points' coordinates axis by axis, so that the heights of consecutive points over a
+        // facet are computed side by side in vector registers (the same sums in the same order
+        // as `dot`): this check took 7% of a whole grasp point by point.
+        let n = points.len();
+        self.by_axis.clear();
+        for k in 0..D {
+            self.by_axis.extend(points.iter().map(|p| p[k]));
+        }
+        let axes: [&[f64]; D] = std::array::from_fn(|k| &self.by_axis[k * n..(k + 1) * n]);
+        // Point i of axis k: indices both ways are the point of the layout.
+        #[allow(clippy::needless_range_loop)]
+        self.facets.iter().all(|f| {
+            let limit = f.offset + tolerance;
+            let mut outside = false;
+            for i in 0..n {
+                let mut height = 0.0;
+                for k in 0..D {
+                    height += f.normal[k] * axes[k][i];
+                }
+                outside |= height > limit;
+            }
+            !outside
+        })
     }
 
     /// Beneath–beyond over `points` (already joggled into general position).
