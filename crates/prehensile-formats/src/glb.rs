@@ -130,11 +130,16 @@ fn capsule_triangles(
     }
 }
 
+/// Translation and rotation quaternion (x, y, z, w) of `t`. A unit quaternion's component can
+/// exceed 1 by a rounding (1.0000000000000002), which glTF forbids: each is clamped to [−1, 1].
 fn trs(t: &Transform) -> (Vec<f64>, Vec<f64>) {
     let q = t.rotation.quaternion();
     (
         t.translation.vector.iter().copied().collect(),
-        vec![q.i, q.j, q.k, q.w],
+        [q.i, q.j, q.k, q.w]
+            .iter()
+            .map(|c| c.clamp(-1.0, 1.0))
+            .collect(),
     )
 }
 
@@ -385,4 +390,21 @@ pub fn glb_container(json: &[u8], bin: &[u8]) -> Vec<u8> {
     out.extend_from_slice(bin);
     out.resize(total, 0);
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_rotation_rounded_past_one_is_written_within_glTFs_range() {
+        let q = nalgebra::Quaternion::new(1.0000000000000002, 0.0, 0.0, 0.0);
+        let t = Transform::from_parts(
+            Vec3::new(0.1, 0.0, 0.0).into(),
+            nalgebra::UnitQuaternion::new_unchecked(q),
+        );
+        let (translation, rotation) = trs(&t);
+        assert_eq!(translation, [0.1, 0.0, 0.0]);
+        assert_eq!(rotation, [0.0, 0.0, 0.0, 1.0]);
+    }
 }
