@@ -397,7 +397,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_rotation_rounded_past_one_is_written_within_glTFs_range() {
+    fn a_rotation_rounded_past_one_is_written_within_the_gltf_range() {
         let q = nalgebra::Quaternion::new(1.0000000000000002, 0.0, 0.0, 0.0);
         let t = Transform::from_parts(
             Vec3::new(0.1, 0.0, 0.0).into(),
