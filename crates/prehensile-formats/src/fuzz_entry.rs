@@ -1,5 +1,5 @@
 //! One entry point per reader for fuzzing: the cargo-fuzz targets in `fuzz/` call these, and
-//! `tests/fuzz_corpus.rs` replays the committed corpus through the same functions on stable Rust,
+//! `tests/integration/fuzz_corpus.rs` replays the committed corpus through the same functions on stable Rust,
 //! so CI checks every saved input even where no nightly toolchain is installed. Each returns
 //! whether the input was accepted; what matters is that none panics, aborts or hangs.
 

@@ -6,7 +6,7 @@
 //! sphere still ([`prehensile_sim::scenarios::held_still`], the default solver for DT), prints `ready`,
 //! then answers each line `DT STEPS` on standard input with the median microseconds per step of
 //! that many steps, timed in blocks of 100. The published numbers come from the criterion
-//! benchmark (`cargo bench -p prehensile-sim --bench simulation`); this only lets the two
+//! benchmark (`cargo bench -p prehensile-bench --bench simulation`); this only lets the two
 //! engines alternate closely enough that the machine's drift cancels in their ratio.
 
 use std::io::BufRead;

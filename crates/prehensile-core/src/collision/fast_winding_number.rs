@@ -22,7 +22,7 @@ type Mat3 = nalgebra::Matrix3<f64>;
 
 /// Nodes farther than this many radii from the query use the expansion. Barill et al. use 2
 /// with one more term (the Hessian, from each triangle's second moments); with the two terms
-/// here, 3 keeps the error within 0.015 of libigl's exact sum on `tests/winding_oracle.rs`
+/// here, 3 keeps the error within 0.015 of libigl's exact sum on `tests/integration/winding_oracle.rs`
 /// (libigl's own fast path: 0.003), far from mattering to an inside test at ½ on closed parts.
 const BETA: f64 = 3.0;
 /// Traversal stack depth, as for the hierarchy's other queries.

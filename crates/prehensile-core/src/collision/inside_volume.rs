@@ -9,7 +9,7 @@
 //! flipped faces of other meshes it changes smoothly between crossings, so a piece is sampled at
 //! up to [`SAMPLES_PER_PIECE`] points and each change between neighbouring samples located by
 //! bisection. The inside lengths times the cells' areas sum to the volume (midpoint rule across x
-//! and y: within 1% on the shapes of `tests/winding_oracle.rs`).
+//! and y: within 1% on the shapes of `tests/integration/winding_oracle.rs`).
 
 use rayon::prelude::*;
 

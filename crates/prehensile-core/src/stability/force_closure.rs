@@ -11,7 +11,7 @@
 //! suffices: a negative optimum means no force closure). It is solved by a dense two-phase
 //! simplex with Bland's rule, written here because the problem is tiny and fixed in shape: a
 //! general sparse solver (`microlp`) took 200–500 µs per pose, this takes tens, and its buffers
-//! are reused. Checked against the hull on every oracle case (`tests/stability_oracle.rs`).
+//! are reused. Checked against the hull on every oracle case (`tests/integration/stability_oracle.rs`).
 
 use nalgebra::{Matrix6, Vector6};
 

@@ -1,6 +1,6 @@
 //! The controller's torque laws, blends and state machine (Pollard & Zordan, Eq. 3–16, Fig. 3).
 
-mod common;
+use crate::common;
 
 use nalgebra::DVector;
 use prehensile_control::{

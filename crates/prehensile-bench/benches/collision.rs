@@ -1,6 +1,6 @@
 //! Capsule tests, exact vs fast, and one finger closing, on a closed mesh of 16,384 triangles.
 //!
-//! Run: `cargo bench -p prehensile-core --bench collision`
+//! Run: `cargo bench -p prehensile-bench --bench collision`
 
 use std::hint::black_box;
 

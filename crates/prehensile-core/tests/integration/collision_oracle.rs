@@ -1,7 +1,7 @@
 //! The exact and fast capsule tests against independent answers from libigl
 //! (`tools/oracle/collision_oracle.py`, committed as `tests/data/collision_oracle.json`).
 
-mod common;
+use crate::common;
 
 use prehensile_core::math::Point3;
 use prehensile_core::{Capsule, CollisionCounters, ObjectModel};

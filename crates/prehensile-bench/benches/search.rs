@@ -1,6 +1,6 @@
 //! The thesis's timing table (§6.6, combinations a–h of P, v and N) and whole grasps.
 //!
-//! Run: `cargo bench -p prehensile-core --bench search`. The thesis's v (TranslateToFree
+//! Run: `cargo bench -p prehensile-bench --bench search`. The thesis's v (TranslateToFree
 //! placements per pose) is set through the step length; the realised mean is printed.
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion};

@@ -2,7 +2,7 @@
 //! 1 mm; power touches with ≥ 3 fingers, precision with thumb and index; the palm faces the hook),
 //! checked from the result's own capsules with the exact collision path.
 
-mod common;
+use crate::common;
 
 use std::time::Duration;
 

@@ -4,7 +4,7 @@
 //! palm; and the human hand at 1 ms with the solver settings the default was chosen from
 //! (substeps × sweeps). Steps per second = 1 / time per step; real-time factor = dt / time.
 //!
-//! Run: `cargo bench -p prehensile-sim --bench simulation`
+//! Run: `cargo bench -p prehensile-bench --bench simulation`
 
 use std::hint::black_box;
 

@@ -1,7 +1,7 @@
 //! Force closure, ε and load ratios against scipy's Qhull (`tools/oracle/stability_oracle.py`,
 //! answers committed in `tests/data/stability_oracle.json`).
 
-mod common;
+use crate::common;
 
 use common::stability_cases::oracle_cases;
 use prehensile_core::stability::{force_closure_margin, GraspWrenchSpace};

@@ -2,7 +2,7 @@
 //! generalized winding numbers (`tools/oracle/winding_oracle.py`, committed as
 //! `tests/data/winding/winding_oracle.json`).
 
-mod common;
+use crate::common;
 
 use prehensile_core::collision::TriangleBvh;
 use prehensile_core::math::Point3;

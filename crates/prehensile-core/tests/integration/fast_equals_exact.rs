@@ -1,7 +1,7 @@
 //! The fast path's error bound is zero: on random capsules near concave and genus-1 objects it
 //! gives the exact path's answer every time.
 
-mod common;
+use crate::common;
 
 use prehensile_core::geometry::closest_point_on_triangle;
 use prehensile_core::math::Point3;

@@ -1,6 +1,6 @@
 //! Finger closing (§5.4, Alg. 1–2) with and without contact refinement.
 
-mod common;
+use crate::common;
 
 use prehensile_core::finger_closing::{close_fingers, ClosingParams};
 use prehensile_core::math::Transform;

@@ -2,7 +2,7 @@
 //! scipy oracle (`tests/data/stability_oracle.json`, 2–17 contacts each), computed once per
 //! search result.
 //!
-//! Run: `cargo bench -p prehensile-core --bench stability`
+//! Run: `cargo bench -p prehensile-bench --bench stability`
 
 use std::hint::black_box;
 
@@ -11,7 +11,7 @@ use prehensile_core::stability::GraspWrenchSpace;
 
 // The bench reads only the inputs; the answers are the test's.
 #[allow(dead_code)]
-#[path = "../tests/common/stability_cases.rs"]
+#[path = "../../prehensile-core/tests/common/stability_cases.rs"]
 mod stability_cases;
 
 fn bench(c: &mut Criterion) {

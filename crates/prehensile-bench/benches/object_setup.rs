@@ -1,7 +1,7 @@
 //! Object setup (`ObjectModel::new`: checks, repairs, BVH, distance grid, hooks, mass
 //! properties) on tori of 16k, 262k and 1M triangles, 11.8 cm across.
 //!
-//! Run: `cargo bench -p prehensile-core --bench object_setup`
+//! Run: `cargo bench -p prehensile-bench --bench object_setup`
 
 use std::hint::black_box;
 

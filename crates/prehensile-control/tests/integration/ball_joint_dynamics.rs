@@ -5,7 +5,7 @@
 //! the rest of the hand still, and power: the torques' power is the kinetic energy's rate. And
 //! fitting: a controller is recovered from a motion it produced.
 
-mod common;
+use crate::common;
 
 use nalgebra::DVector;
 use prehensile_control::{
