@@ -47,7 +47,8 @@ fn a_plan_counts_its_attempts_and_refuses_empty_or_repeated_lists() {
 
 #[test]
 fn folders_and_patterns_expand_to_sorted_mesh_files() {
-    let dir = std::env::temp_dir().join(format!("prehensile-plan-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("prehensile-plan-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(dir.join("sub")).unwrap();
     for f in ["b.stl", "a.OBJ", "notes.txt", "sub/c.ply"] {

@@ -3,7 +3,8 @@
 //! so CI checks every saved input even where no nightly toolchain is installed. Each returns
 //! whether the input was accepted; what matters is that none panics, aborts or hangs.
 
-use std::path::PathBuf;
+use std::path::Path;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// The readers that can be fuzzed, by target name.
 pub const TARGETS: [&str; 9] = [
@@ -26,21 +27,30 @@ pub fn run(target: &str, data: &[u8]) -> Option<bool> {
         "mesh_obj" => crate::parse_obj(&text(), "fuzz.obj").is_ok(),
         "mesh_stl" => crate::parse_stl(data, "fuzz.stl").is_ok(),
         "mesh_ply" => crate::parse_ply(data, "fuzz.ply").is_ok(),
-        "mesh_gltf" => crate::read_mesh(&scratch("fuzz.glb", data), 1.0).is_ok(),
+        "mesh_gltf" => {
+            in_scratch_file("fuzz.glb", data, |path| crate::read_mesh(path, 1.0).is_ok())
+        }
         "hand_toml" => crate::parse_hand_toml(&text(), "fuzz.toml").is_ok(),
         "hand_urdf" => crate::parse_hand_urdf(&text(), "fuzz.urdf").is_ok(),
         "hand_mjcf" => crate::parse_hand_mjcf(&text(), "fuzz.xml").is_ok(),
-        "hand_gltf" => crate::load_hand_gltf(&scratch("fuzz.glb", data)).is_ok(),
+        "hand_gltf" => {
+            in_scratch_file("fuzz.glb", data, |path| crate::load_hand_gltf(path).is_ok())
+        }
         "bvh" => crate::parse_bvh(&text(), "fuzz.bvh").is_ok(),
         _ => return None,
     })
 }
 
-/// `data` written to `name` in a folder of this process's own.
-fn scratch(name: &str, data: &[u8]) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("prehensile-fuzz-{}", std::process::id()));
+/// `read` of `data` written to `name` in a folder of this call's own (so that the file's
+/// references find nothing else), removed afterwards.
+fn in_scratch_file(name: &str, data: &[u8], read: impl FnOnce(&Path) -> bool) -> bool {
+    static CALLS: AtomicU64 = AtomicU64::new(0);
+    let call = CALLS.fetch_add(1, Ordering::Relaxed);
+    let dir = std::env::temp_dir().join(format!("prehensile-fuzz-{}-{call}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("the temporary folder is writable");
     let path = dir.join(name);
     std::fs::write(&path, data).expect("the temporary folder is writable");
-    path
+    let accepted = read(&path);
+    let _ = std::fs::remove_dir_all(&dir);
+    accepted
 }

@@ -9,7 +9,8 @@ use arrow_array::{Array, RecordBatch, StringArray, UInt64Array};
 use prehensile_batch::{read_rows, TIMING_COLUMNS};
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("prehensile-batch-{}-{name}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("prehensile-batch-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir

@@ -17,7 +17,8 @@ fn get(port: u16, target: &str) -> (u16, Vec<u8>) {
 
 #[test]
 fn the_viewer_folder_is_served_and_nothing_outside_it() {
-    let root = std::env::temp_dir().join(format!("prehensile-view-{}", std::process::id()));
+    let root = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("prehensile-view-{}", std::process::id()));
     let dist = root.join("dist");
     std::fs::create_dir_all(&dist).unwrap();
     std::fs::write(dist.join("index.html"), "<!doctype html>viewer").unwrap();

@@ -123,7 +123,8 @@ fn the_skinned_mesh_follows_its_bones_when_the_hand_closes() {
 
 #[test]
 fn a_sidecar_names_the_fingers_of_a_skin() {
-    let dir = std::env::temp_dir().join(format!("prehensile-gltf-sidecar-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("prehensile-gltf-sidecar-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let glb = dir.join("hand.glb");
     std::fs::copy(webxr("right"), &glb).unwrap();

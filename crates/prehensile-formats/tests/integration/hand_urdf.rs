@@ -134,7 +134,8 @@ fn bad_urdf_is_named() {
 
 #[test]
 fn a_sidecar_overrides_fingers_tips_and_close() {
-    let dir = std::env::temp_dir().join(format!("prehensile-sidecar-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("prehensile-sidecar-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let urdf = dir.join("claw.urdf");
     std::fs::copy(urdf_path(), &urdf).unwrap();
@@ -171,7 +172,8 @@ fn a_sidecar_overrides_fingers_tips_and_close() {
 
 #[test]
 fn a_sidecar_changes_a_derived_movement_and_adds_one() {
-    let dir = std::env::temp_dir().join(format!("prehensile-movements-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("prehensile-movements-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let urdf = dir.join("claw.urdf");
     std::fs::copy(urdf_path(), &urdf).unwrap();
@@ -231,7 +233,8 @@ fn a_sidecar_changes_a_derived_movement_and_adds_one() {
 
 #[test]
 fn a_sidecar_frame_replaces_the_derived_one() {
-    let dir = std::env::temp_dir().join(format!("prehensile-frame-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("prehensile-frame-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let urdf = dir.join("claw.urdf");
     std::fs::copy(urdf_path(), &urdf).unwrap();

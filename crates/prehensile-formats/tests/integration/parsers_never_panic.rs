@@ -83,7 +83,7 @@ proptest! {
     #[test]
     fn glb_survives_mutation(edits in proptest::collection::vec((any::<usize>(), any::<u8>()), 1..6), cut in any::<usize>()) {
         let bytes = mutate(asset("hands/webxr_generic_hand/right.glb"), &edits, cut % 64);
-        let dir = std::env::temp_dir().join(format!("prehensile-glb-fuzz-{}", std::process::id()));
+        let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("prehensile-glb-fuzz-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("m.glb");
         std::fs::write(&path, &bytes).unwrap();
