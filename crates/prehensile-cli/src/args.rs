@@ -127,7 +127,9 @@ pub struct SimulateArgs {
     #[arg(long, default_value = "human")]
     pub hand: String,
     /// Objects (comma-separated built-in names or mesh files); `grasp` grasps each with the
-    /// controller fitted to the first.
+    /// controller fitted to the first, the others searched along that controller's closing
+    /// (each case reports `searched_along_example_closing`: 0 when that found no valid grasp and
+    /// the hand's own movement was searched instead).
     #[arg(long, default_value = "sphere,box,cylinder")]
     pub object: String,
     /// Units, scale and repair of mesh files.

@@ -183,6 +183,17 @@ impl GraspMovement {
         m
     }
 
+    /// This movement (name, grasp center, contact fingers) between other start and end joint
+    /// angles (limits and couplings applied): the closing a controller with those setpoints
+    /// will make.
+    pub fn between(&self, hand: &HandModel, mut start: Vec<f64>, mut end: Vec<f64>) -> Self {
+        hand.constrain(&mut start);
+        hand.constrain(&mut end);
+        let mut m = Self::from_angles(hand, &self.name, start, end, self.grasp_center);
+        m.contact_fingers = self.contact_fingers.clone();
+        m
+    }
+
     fn from_angles(
         hand: &HandModel,
         name: &str,

@@ -1,10 +1,11 @@
 //! Grasps of several shapes from one example (Fig. 6): one controller, fitted to the synthetic
 //! example of the first object's grasp, drives the hand to grasp, lift and release each object
-//! along the arm path of that object's own grasp pose.
+//! along the arm path of that object's own grasp pose. The other objects' grasps are searched
+//! along the closing this controller makes, so each object is placed where its fingers close.
 
 use prehensile_control::GraspController;
 use prehensile_core::math::Transform;
-use prehensile_core::{HandModel, ObjectModel};
+use prehensile_core::{GraspMovement, HandModel, ObjectModel};
 
 use super::{
     case, grasp_arm, recording, step_until, CaseReport, GraspTimes, Options, PlannedGrasp,
@@ -124,6 +125,27 @@ pub(crate) fn example_controller(
     Ok((controller, grasp))
 }
 
+/// The closing the controller makes: from the example's open pose to its grip target
+/// (Eq. 15–16: the grip extrapolated by α away from the open pose), as a movement of the hand.
+///
+/// The other objects are searched along it, so that each is placed where the fingers this one
+/// controller moves will close on it; a grasp searched along the hand's own movement sets the
+/// fingers where that movement stops, which the controller's grip, fitted to the first object,
+/// does not reach or presses past.
+fn example_closing(
+    options: &Options,
+    controller: &GraspController,
+    first: &PlannedGrasp,
+) -> Result<GraspMovement, SimError> {
+    let target: Vec<f64> = first
+        .pressed()
+        .iter()
+        .zip(&first.open)
+        .map(|(grip, open)| grip + controller.alpha * (grip - open))
+        .collect();
+    Ok(super::grasp_movement(&options.hand)?.between(&options.hand, first.open.clone(), target))
+}
+
 pub(crate) fn run(
     options: &Options,
     progress: &mut dyn FnMut(&str, f64),
@@ -133,13 +155,19 @@ pub(crate) fn run(
     let seconds = options
         .seconds
         .unwrap_or(super::Scenario::Grasp.default_seconds());
+    let closing = example_closing(options, &controller, &first_grasp)?;
     for (k, object) in options.objects.iter().enumerate() {
-        let grasp = if k == 0 {
-            first_grasp.clone()
+        // Each object after the first is searched along the controller's closing; when that
+        // finds no valid grasp, along the hand's own movement.
+        let (grasp, along_example) = if k == 0 {
+            (first_grasp.clone(), true)
         } else {
-            options.plan_grasp(object)?
+            match options.plan_grasp_along(object, &closing) {
+                Err(SimError::NoGrasp(_)) => (options.plan_grasp(object)?, false),
+                found => (found?, true),
+            }
         };
-        add(grasp_case(
+        let (mut report, recording) = grasp_case(
             &options.hand,
             object,
             &grasp,
@@ -149,7 +177,12 @@ pub(crate) fn run(
             Vec::new(),
             object.name().to_string(),
             progress,
-        )?);
+        )?;
+        report.metrics.insert(
+            "searched_along_example_closing".into(),
+            f64::from(u8::from(along_example)),
+        );
+        add((report, recording));
     }
     Ok(())
 }

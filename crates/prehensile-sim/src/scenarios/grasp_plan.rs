@@ -6,7 +6,7 @@ use prehensile_control::{fit_controller, BaseMotion, Gains, GraspController, Mot
 use prehensile_core::math::{Point3, Transform, Vec3};
 use prehensile_core::search::translate_to_free::hand_root;
 use prehensile_core::search::{default_shoulder, GraspPlanner, GraspResult, SearchParams};
-use prehensile_core::{HandModel, ObjectModel, Workspace};
+use prehensile_core::{GraspMovement, HandModel, ObjectModel, Workspace};
 
 use crate::arm_trajectory::{ArmTrajectory, Waypoint};
 use crate::SimError;
@@ -44,10 +44,23 @@ pub fn plan_grasp_with(
     object: &ObjectModel,
     params: SearchParams,
 ) -> Result<PlannedGrasp, SimError> {
-    let movement = hand
-        .movement("power")
+    plan_grasp_along(hand, object, grasp_movement(hand)?, params)
+}
+
+/// The movement the grasp scenarios search with: the hand's `power`, else its first.
+pub fn grasp_movement(hand: &HandModel) -> Result<&GraspMovement, SimError> {
+    hand.movement("power")
         .or_else(|| hand.movements().first())
-        .ok_or_else(|| SimError::Hand(format!("hand '{}' has no movement", hand.name())))?;
+        .ok_or_else(|| SimError::Hand(format!("hand '{}' has no movement", hand.name())))
+}
+
+/// [`plan_grasp_with`] along a given movement.
+pub fn plan_grasp_along(
+    hand: &HandModel,
+    object: &ObjectModel,
+    movement: &GraspMovement,
+    params: SearchParams,
+) -> Result<PlannedGrasp, SimError> {
     let hook = object.center_of_mass();
     let shoulder = default_shoulder(hand, &hook, &Vec3::z());
     let friction = params.contact_model.friction;
@@ -268,10 +281,7 @@ impl PlannedGrasp {
     /// Poses without an object: open = the movement's start, closed = 70% of its closing; the
     /// root at the origin. For scenarios without an object (drop, shake, handshake).
     pub fn without_object(hand: &HandModel) -> Result<Self, SimError> {
-        let movement = hand
-            .movement("power")
-            .or_else(|| hand.movements().first())
-            .ok_or_else(|| SimError::Hand(format!("hand '{}' has no movement", hand.name())))?;
+        let movement = grasp_movement(hand)?;
         let rotations: Vec<_> = (0..hand.bones().len())
             .map(|b| movement.rotation_at(b, 0.7))
             .collect();
@@ -288,7 +298,7 @@ impl PlannedGrasp {
 }
 
 /// [`EXAMPLE_PRESS`] of the movement's end minus start joint angles, per degree of freedom.
-fn press(movement: &prehensile_core::GraspMovement) -> Vec<f64> {
+fn press(movement: &GraspMovement) -> Vec<f64> {
     movement
         .end_angles()
         .iter()

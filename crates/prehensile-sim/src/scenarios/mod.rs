@@ -16,14 +16,15 @@ use std::time::Instant;
 
 use prehensile_core::animation::Keyframe;
 use prehensile_core::math::Transform;
-use prehensile_core::{HandModel, ObjectModel};
+use prehensile_core::{GraspMovement, HandModel, ObjectModel};
 use serde::Serialize;
 
 use crate::simulation::{Settings, Simulation, StateChange};
 use crate::SimError;
 
 pub use grasp_plan::{
-    grasp_arm, plan_grasp, plan_grasp_with, GraspTimes, PlannedGrasp, APPROACH, EXAMPLE_PRESS, LIFT,
+    grasp_arm, grasp_movement, plan_grasp, plan_grasp_along, plan_grasp_with, GraspTimes,
+    PlannedGrasp, APPROACH, EXAMPLE_PRESS, LIFT,
 };
 pub use held_still::held_still;
 pub use hold_test::{
@@ -122,10 +123,19 @@ impl Options {
     /// validity rule (force closure, contacts from more than one side) then judges the grasp
     /// by a friction the simulation will give it ([`PlannedGrasp::search_friction`] says which).
     pub fn plan_grasp(&self, object: &ObjectModel) -> Result<PlannedGrasp, SimError> {
+        self.plan_grasp_along(object, grasp_movement(&self.hand)?)
+    }
+
+    /// [`Options::plan_grasp`] along a given movement of the hand.
+    pub fn plan_grasp_along(
+        &self,
+        object: &ObjectModel,
+        movement: &GraspMovement,
+    ) -> Result<PlannedGrasp, SimError> {
         let search = |friction: f64| {
             let mut params = prehensile_core::search::SearchParams::default();
             params.contact_model.friction = friction;
-            plan_grasp_with(&self.hand, object, params)
+            plan_grasp_along(&self.hand, object, movement, params)
         };
         match search(SEARCH_FRICTION_SHARE * self.settings.friction) {
             Err(SimError::NoGrasp(_)) => search(self.settings.friction),

@@ -346,21 +346,41 @@ fn the_hand_lifts_a_light_sphere_and_carries_it() {
     assert!(case.object_slip_m.unwrap() < 0.01, "{case:?}");
 }
 
-#[test]
-fn one_controller_fitted_to_the_sphere_lifts_the_box_and_the_cylinder_too() {
-    // `prehensile simulate`'s default run (Fig. 6). Each grasp is searched at half the world's
-    // friction: searched at the whole of it (friction 1), the cylinder's grasp lies along the
-    // cylinder with straight fingers and the hand drops it.
+/// `prehensile simulate`'s default run (Fig. 6) with `hand`: one controller, fitted to the
+/// sphere's grasp, lifts the sphere, the box and the cylinder. Each grasp is searched at half
+/// the world's friction (searched at the whole of it, the human's cylinder grasp lies along the
+/// cylinder with straight fingers and the hand drops it), the box and the cylinder along the
+/// controller's own closing.
+fn the_default_run_holds_all_three(hand: prehensile_core::HandModel) {
     let objects = ["sphere", "box", "cylinder"];
-    let (report, _) =
-        scenarios::run(Scenario::Grasp, &options(&objects, 0.5), &mut |_, _| {}).unwrap();
+    let options = Options {
+        hand,
+        ..options(&objects, 0.5)
+    };
+    let (report, _) = scenarios::run(Scenario::Grasp, &options, &mut |_, _| {}).unwrap();
     assert_eq!(report.cases.len(), 3);
     for (case, name) in report.cases.iter().zip(objects) {
         assert_eq!(case.label, name);
         assert_eq!(case.held, Some(true), "{case:?}");
         assert!(case.metrics["object_rise_m"] > 0.08, "{case:?}");
         assert_eq!(case.metrics["search_friction"], 0.5, "{case:?}");
+        assert_eq!(
+            case.metrics["searched_along_example_closing"], 1.0,
+            "{case:?}"
+        );
     }
+}
+
+#[test]
+fn one_controller_fitted_to_the_sphere_lifts_the_box_and_the_cylinder_too() {
+    the_default_run_holds_all_three(human());
+}
+
+#[test]
+fn the_left_hands_controller_fitted_to_the_sphere_lifts_the_box_too() {
+    // Searched along the left hand's own power movement, the box was placed where that
+    // movement's fingers stop; the sphere's grip did not close on it and the box fell.
+    the_default_run_holds_all_three(prehensile_formats::builtin_hand("human-left").unwrap());
 }
 
 #[test]
