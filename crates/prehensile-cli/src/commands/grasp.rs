@@ -236,7 +236,11 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
         object.name(),
         status,
         result.movement,
-        result.fingers_touching.join(", "),
+        if result.fingers_touching.is_empty() {
+            "none".to_string()
+        } else {
+            result.fingers_touching.join(", ")
+        },
         took.as_secs_f64() * 1e3,
         setup_ms
     );

@@ -93,6 +93,37 @@ fn bad_files_exit_two_with_a_reason() {
 }
 
 #[test]
+fn no_valid_grasp_exits_one_and_names_the_test_that_failed() {
+    // A torus 2.5 times the built-in one: the power search from the default shoulder ends with
+    // no finger on it.
+    let json = scratch("big_torus.json");
+    let out = prehensile(&[
+        "grasp",
+        "--object",
+        "torus",
+        "--scale",
+        "2.5",
+        "--movement",
+        "power",
+        "--out",
+        json.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1), "{}", text(&out.stderr));
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("no valid grasp: 0 finger(s) touch the object, 3 needed")
+            && err.contains("fingers touching: none,"),
+        "{err}"
+    );
+    let result: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    assert_eq!(result["valid"], false);
+    assert!(result["invalid_reason"]
+        .as_str()
+        .unwrap()
+        .contains("finger(s) touch"));
+}
+
+#[test]
 fn hands_lists_the_builtins() {
     let out = prehensile(&["hands", "--json"]);
     assert_eq!(out.status.code(), Some(0));
