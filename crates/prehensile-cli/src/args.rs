@@ -265,6 +265,10 @@ pub struct GraspArgs {
     /// Seed of the random search angles.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Threads evaluating each search step's candidates (default: one per core, at most 6; the
+    /// result is the same on any number).
+    #[arg(long)]
+    pub threads: Option<usize>,
     /// Quality weights G,F,T,W[,S] for gDist, fDist, tDist*, wDist and the stability term ε·L
     /// (default: 5,1,0,1,0 for movements without contact fingers, Eq. 5.1; 5,0,1,1,0 for those
     /// with, Eq. 5.2; S defaults to 0).

@@ -156,6 +156,11 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
         }
         None => None,
     };
+    if args.threads == Some(0) {
+        return Err(CliError::Usage(
+            "--threads 0: use 1 or more (the default is one per core)".into(),
+        ));
+    }
     let request = GraspRequest {
         movement: args.movement.clone(),
         shoulder,
@@ -176,6 +181,9 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
                 friction: args.friction,
                 ..ContactModel::default()
             },
+            threads: args
+                .threads
+                .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, usize::from)),
             ..SearchParams::default()
         },
         budget,

@@ -124,6 +124,39 @@ fn no_valid_grasp_exits_one_and_names_the_test_that_failed() {
 }
 
 #[test]
+fn a_grasp_is_the_same_on_any_number_of_threads() {
+    let result = |threads: &[&str], name: &str| {
+        let json = scratch(name);
+        let mut args = vec![
+            "grasp",
+            "--object",
+            "mug",
+            "--movement",
+            "power",
+            "--out",
+            json.to_str().unwrap(),
+        ];
+        args.extend_from_slice(threads);
+        let out = prehensile(&args);
+        assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+        let mut result: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+        result["stats"]
+            .as_object_mut()
+            .unwrap()
+            .remove("seconds")
+            .unwrap();
+        result
+    };
+    let one = result(&["--threads", "1"], "mug_one_thread.json");
+    assert_eq!(one, result(&["--threads", "4"], "mug_four_threads.json"));
+    assert_eq!(one, result(&[], "mug_every_core.json"));
+    let out = prehensile(&["grasp", "--threads", "0"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(text(&out.stderr).contains("--threads 0"));
+}
+
+#[test]
 fn hands_lists_the_builtins() {
     let out = prehensile(&["hands", "--json"]);
     assert_eq!(out.status.code(), Some(0));

@@ -100,12 +100,15 @@ fn counted_windings(
 /// fold thinner than the line spacing can be missed.
 pub fn overlaps_itself(exact: &TriangleBvh, cells: usize) -> bool {
     let lines = LineGrid::new(exact, cells);
-    let mut crossings = Vec::new();
-    (0..lines.len()).any(|k| {
-        lines.crossings(exact, k, &mut crossings);
-        counted_windings(&crossings)
-            .is_some_and(|mut w| w.any(|(z0, z1, w)| z1 > z0 && !(0..=1).contains(&w)))
-    })
+    // Lines in parallel: the scan is most of a clean mesh's setup.
+    (0..lines.len())
+        .into_par_iter()
+        .map_init(Vec::new, |crossings, k| {
+            lines.crossings(exact, k, crossings);
+            counted_windings(crossings)
+                .is_some_and(|mut w| w.any(|(z0, z1, w)| z1 > z0 && !(0..=1).contains(&w)))
+        })
+        .any(|overlapping| overlapping)
 }
 
 /// Volume (m³) and centroid of the points of `exact`'s bounding box that [`TriangleBvh::inside`]
