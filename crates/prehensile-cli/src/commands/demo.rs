@@ -69,6 +69,7 @@ pub fn run(args: &DemoArgs) -> Result<i32, CliError> {
                 params: SearchParams {
                     seed: args.seed,
                     up,
+                    threads: std::thread::available_parallelism().map_or(1, usize::from),
                     ..SearchParams::default()
                 },
                 budget: None,

@@ -21,19 +21,22 @@ const MAX_BUDGET_MS: f64 = 86_400_000.0;
 /// Shows the search's progress on a spinner.
 struct SpinnerSink {
     bar: ProgressBar,
+    /// The movement the events are about.
     movement: String,
-    best: Option<f64>,
+    /// The best valid quality of each movement so far (movements searched side by side
+    /// interleave their events).
+    best: std::collections::HashMap<String, f64>,
 }
 
 impl SearchSink for SpinnerSink {
     fn movement_started(&mut self, name: &str) {
         self.movement = name.to_string();
-        self.best = None;
     }
 
     fn step(&mut self, stats: &SearchStats, _current: &Evaluation) {
         let best = self
             .best
+            .get(&self.movement)
             .map_or("none yet".to_string(), |q| format!("{q:.4}"));
         self.bar.set_message(format!(
             "{}: step {}, {} poses, best valid quality {best}",
@@ -43,7 +46,7 @@ impl SearchSink for SpinnerSink {
     }
 
     fn improved(&mut self, best: &Evaluation) {
-        self.best = Some(best.quality);
+        self.best.insert(self.movement.clone(), best.quality);
     }
 }
 
@@ -65,7 +68,7 @@ pub fn search(
     let mut sink = SpinnerSink {
         bar,
         movement: String::new(),
-        best: None,
+        best: Default::default(),
     };
     let result = find_grasp(hand, object, request, &mut sink).map_err(CliError::from);
     sink.bar.finish_and_clear();

@@ -106,7 +106,9 @@ pub trait SearchSink {
     fn step(&mut self, _stats: &SearchStats, _current: &Evaluation) {}
     /// When the best valid grasp improves.
     fn improved(&mut self, _best: &Evaluation) {}
-    /// Before the search of each movement a request tries.
+    /// Before the events of each movement a request tries; again whenever the events switch
+    /// movement (movements searched side by side interleave, see
+    /// [`find_grasp`](super::find_grasp)).
     fn movement_started(&mut self, _name: &str) {}
 }
 

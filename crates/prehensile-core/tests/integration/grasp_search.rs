@@ -308,6 +308,70 @@ fn same_seed_same_grasp_and_threads_do_not_change_it() {
 }
 
 #[test]
+fn movements_searched_side_by_side_give_the_same_result_and_every_event() {
+    // `auto` on several threads searches the human hand's movements each on a thread of its
+    // own, passing their events on to the caller's sink.
+    #[derive(Default)]
+    struct Heard {
+        started: Vec<String>,
+        steps: std::collections::HashMap<String, u32>,
+        movement: String,
+    }
+    impl SearchSink for Heard {
+        fn movement_started(&mut self, name: &str) {
+            self.movement = name.to_string();
+            if !self.started.iter().any(|s| s == name) {
+                self.started.push(name.to_string());
+            }
+        }
+        fn step(&mut self, stats: &SearchStats, _current: &Evaluation) {
+            let last = self.steps.entry(self.movement.clone()).or_default();
+            assert_eq!(
+                stats.steps,
+                *last + 1,
+                "{}: a step lost or out of order",
+                self.movement
+            );
+            *last = stats.steps;
+        }
+    }
+    let hand = common::hand("human");
+    let object = common::object("sphere");
+    let run = |threads: usize| {
+        let request = prehensile_core::search::GraspRequest {
+            movement: prehensile_core::search::AUTO_MOVEMENT.into(),
+            shoulder: Point3::new(-0.35, -0.2, 0.35),
+            params: SearchParams {
+                threads,
+                ..Default::default()
+            },
+            budget: None,
+        };
+        let mut heard = Heard::default();
+        let mut result =
+            prehensile_core::search::find_grasp(&hand, &object, &request, &mut heard).unwrap();
+        result.stats.seconds = 0.0;
+        (result, heard)
+    };
+    let (one, heard_one) = run(1);
+    let (side_by_side, heard) = run(2);
+    assert_eq!(one, side_by_side);
+    let movements: Vec<&str> =
+        prehensile_core::search::movements_to_try(&hand, prehensile_core::search::AUTO_MOVEMENT)
+            .unwrap()
+            .iter()
+            .map(|m| m.name())
+            .collect();
+    assert!(movements.len() > 1, "{movements:?}");
+    let mut started = heard.started.clone();
+    started.sort();
+    let mut expected: Vec<String> = movements.iter().map(|m| m.to_string()).collect();
+    expected.sort();
+    assert_eq!(started, expected);
+    assert_eq!(heard.steps, heard_one.steps);
+}
+
+#[test]
 fn anytime_planner_resumes_and_its_best_only_improves() {
     let hand = common::hand("human");
     let object = common::object("torus");
