@@ -15,7 +15,7 @@ import sys
 
 
 def units(command):
-    """(crate, target kind, features) of every dependency unit the cargo command builds."""
+    """(crate@version, target kind, features) of every dependency unit the cargo command builds."""
     out = subprocess.run(command + ["--message-format=json"], capture_output=True, text=True,
                          check=True).stdout
     found = set()
@@ -24,9 +24,12 @@ def units(command):
             message = json.loads(line)
         except json.JSONDecodeError:
             continue
-        if message.get("reason") == "compiler-artifact" and "path+file" not in message["package_id"]:
-            target = message["target"]
-            found.add((target["name"], target["kind"][0], tuple(sorted(message["features"]))))
+        package = message.get("package_id", "")
+        if message.get("reason") == "compiler-artifact" and "path+file" not in package:
+            # The package id names the version: a crate can be built in two versions (syn 2, 3).
+            name_version = package.rsplit("#", 1)[-1]
+            found.add((name_version, message["target"]["kind"][0],
+                       tuple(sorted(message["features"]))))
     return found
 
 
