@@ -1,5 +1,6 @@
 """Two `prehensile` builds' whole `grasp` runs (process start to exit) timed side by side, the
-builds alternating run by run, reported as medians of wall time per object (docs/PERFORMANCE.md).
+builds alternating run by run, reported as medians of wall time per object, and of the search's
+own time (the result's `stats.seconds`) (docs/PERFORMANCE.md).
 
 Build the CLI in two checkouts (for instance `git worktree add ../before HEAD~1`), then:
     python3 tools/benchmark/ab_grasp_wall.py BEFORE/target/release/prehensile \\
@@ -8,9 +9,11 @@ An object is a robosuite scan's short name (assets/objects/robosuite_NAME.*), a 
 or a mesh path. Standard library only.
 """
 import argparse
+import json
 import pathlib
 import statistics
 import subprocess
+import tempfile
 import time
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -26,13 +29,17 @@ def object_argument(name):
     return str(found[0])
 
 
-def wall_ms(binary, mesh, seed, movement):
+def timed_grasp(binary, mesh, seed, movement, threads, out):
+    """Wall time of one `grasp` run and its search time, milliseconds."""
+    command = [binary, "grasp", "--object", mesh, "--movement", movement, "--seed", str(seed),
+               "--out", out]
+    if threads:
+        command += ["--threads", str(threads)]
     start = time.perf_counter()
-    subprocess.run(
-        [binary, "grasp", "--object", mesh, "--movement", movement, "--seed", str(seed),
-         "--out", "/dev/null"],
-        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=False)
-    return (time.perf_counter() - start) * 1e3
+    subprocess.run(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=False)
+    wall = (time.perf_counter() - start) * 1e3
+    with open(out, encoding="utf-8") as f:
+        return wall, json.load(f)["stats"]["seconds"] * 1e3
 
 
 def main():
@@ -43,16 +50,25 @@ def main():
     parser.add_argument("--seeds", nargs="+", type=int, default=[1, 2, 3])
     parser.add_argument("--movement", default="power")
     parser.add_argument("--rounds", type=int, default=5)
+    parser.add_argument("--threads", type=int, help="passed on as --threads (default: the CLI's)")
     args = parser.parse_args()
+    out = str(pathlib.Path(tempfile.mkdtemp()) / "result.json")
+    print(f"{'':10}   wall: A        B    B/A | search: A        B    B/A")
     for name in args.objects:
         mesh = object_argument(name)
         times = {args.a: [], args.b: []}
         for _ in range(args.rounds):
             for seed in args.seeds:
                 for binary in (args.a, args.b):
-                    times[binary].append(wall_ms(binary, mesh, seed, args.movement))
-        a, b = (statistics.median(times[x]) for x in (args.a, args.b))
-        print(f"{name:10} A {a:7.1f} ms   B {b:7.1f} ms   B/A {b / a:.2f}")
+                    times[binary].append(
+                        timed_grasp(binary, mesh, seed, args.movement, args.threads, out))
+        (wa, sa), (wb, sb) = (
+            tuple(statistics.median(t[k] for t in times[x]) for k in (0, 1))
+            for x in (args.a, args.b))
+        print(f"{name:10} {wa:7.1f} ms {wb:7.1f} ms {wb / wa:5.2f} | "
+              f"{sa:7.1f} ms {sb:7.1f} ms {sb / sa:5.2f}")
+    pathlib.Path(out).unlink(missing_ok=True)
+    pathlib.Path(out).parent.rmdir()
 
 
 if __name__ == "__main__":

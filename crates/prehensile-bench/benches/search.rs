@@ -150,6 +150,35 @@ fn bench(c: &mut Criterion) {
         });
     }
     group.finish();
+
+    // Side by side in one run: whole power grasps (seeds 1-6 in turn, so each side sees the same
+    // searches) with every candidate's stability judged and with it judged lazily.
+    let mut group = c.benchmark_group("stability_judging");
+    for (label, obj) in [("torus16k", &object), ("sphere", &sphere)] {
+        for lazy_stability in [false, true] {
+            let mut seed = 0;
+            let how = if lazy_stability {
+                "lazy"
+            } else {
+                "every_candidate"
+            };
+            group.bench_function(format!("human_power_{label}_{how}"), |b| {
+                b.iter(|| {
+                    seed = seed % 6 + 1;
+                    let p = SearchParams {
+                        seed,
+                        lazy_stability,
+                        ..Default::default()
+                    };
+                    let mut planner =
+                        GraspPlanner::new(&hand, obj, movement, Point3::from(SHOULDER), p).unwrap();
+                    planner.run_to_end();
+                    planner.stats().steps
+                })
+            });
+        }
+    }
+    group.finish();
 }
 
 criterion_group! {

@@ -30,7 +30,7 @@ pub struct Capsule {
     pub radius: f64,
 }
 
-/// Counts of collision queries, to report what a search cost.
+/// Counts of collision queries and the tests built on them, to report what a search cost.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
 pub struct CollisionCounters {
     /// Capsule queries asked.
@@ -39,6 +39,8 @@ pub struct CollisionCounters {
     pub exact_fallbacks: u64,
     /// Hand placements checked by TranslateToFree (the thesis's v, summed).
     pub placements: u64,
+    /// Poses whose contacts were found and tested for force closure.
+    pub stability_tests: u64,
 }
 
 /// Both collision paths for one object.

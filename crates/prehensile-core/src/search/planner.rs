@@ -7,6 +7,7 @@ use rayon::prelude::*;
 // `std::time::Instant` panics in the browser (wasm32); web-time is the same API on every target.
 use web_time::Instant;
 
+use crate::collision::Capsule;
 use crate::finger_closing::ClosingParams;
 use crate::hand::HandModel;
 use crate::math::{Point3, Rotation, Vec3};
@@ -74,6 +75,17 @@ pub struct SearchParams {
     pub validity: ValidityRule,
     /// How contacts resist forces (friction, friction cone, soft pads).
     pub contact_model: ContactModel,
+    /// Judge the stability of a step's candidates (contacts and force closure, the dearest part
+    /// of an evaluation) only where it can change what the step does: best quality first, until
+    /// one holds or none left could become the current or the best pose. The search takes the
+    /// same path and finds the same grasps either way (tested); `false` judges every candidate.
+    /// Only when the quality leaves stability out (its weight S is 0, the default).
+    #[serde(default = "judge_lazily")]
+    pub lazy_stability: bool,
+}
+
+fn judge_lazily() -> bool {
+    true
 }
 
 impl Default for SearchParams {
@@ -95,6 +107,7 @@ impl Default for SearchParams {
             threads: 1,
             validity: ValidityRule::Holds,
             contact_model: ContactModel::default(),
+            lazy_stability: true,
         }
     }
 }
@@ -174,6 +187,8 @@ pub struct SearchStats {
     pub exact_fallbacks: u64,
     /// Hand placements checked by TranslateToFree.
     pub placements: u64,
+    /// Poses whose contacts were found and tested for force closure.
+    pub stability_tests: u64,
     /// Restarts after the character turned.
     pub restarts: u32,
     /// Time spent searching, seconds.
@@ -196,6 +211,8 @@ pub struct GraspPlanner<'a> {
     workspaces: Vec<Workspace>,
     candidates: [Rotation; 6],
     results: Vec<Option<Evaluation>>,
+    /// World capsules of each candidate whose stability waits to be judged.
+    candidate_capsules: Vec<Vec<Capsule>>,
     /// The sink has heard of the current best valid pose.
     best_told: bool,
     /// A restart's work not done yet: it runs in slices.
@@ -295,6 +312,9 @@ impl<'a> GraspPlanner<'a> {
             workspaces: (0..threads).map(|_| Workspace::new(hand)).collect(),
             candidates: [Rotation::identity(); 6],
             results: vec![None; 6],
+            candidate_capsules: (0..6)
+                .map(|_| Vec::with_capacity(hand.capsules().len()))
+                .collect(),
             best_told: false,
             restarting: None,
             step_size: 0,
@@ -364,6 +384,7 @@ impl<'a> GraspPlanner<'a> {
             self.stats.collision_queries += ws.counters.queries;
             self.stats.exact_fallbacks += ws.counters.exact_fallbacks;
             self.stats.placements += ws.counters.placements;
+            self.stats.stability_tests += ws.counters.stability_tests;
             ws.counters = Default::default();
         }
     }
@@ -385,8 +406,9 @@ impl<'a> GraspPlanner<'a> {
 
     /// The smallest unit of work, for game loops with a frame budget: one slice of a restart
     /// (six initial-approximation samples, or the start's evaluation), or one candidate of the
-    /// step in progress (all of them when the planner has several threads). `sink` hears of a
-    /// step when its last candidate is done.
+    /// step in progress (all of them when the planner has several threads), and with
+    /// [`SearchParams::lazy_stability`] the stability test of at most one of them. `sink` hears
+    /// of a step when its outcome is decided.
     pub fn slice(&mut self) -> PlannerStatus {
         self.slice_into(&mut ())
     }
@@ -413,14 +435,22 @@ impl<'a> GraspPlanner<'a> {
                 self.axis = (self.axis + 1) % 3;
                 self.evaluated = 0;
             }
-            let until = if self.workspaces.len() > 1 {
-                self.step_size
-            } else {
-                self.evaluated + 1
-            };
-            self.evaluate_candidates(self.evaluated, until);
-            self.evaluated = until;
-            if self.evaluated == self.step_size {
+            let whole_steps = self.workspaces.len() > 1;
+            if self.evaluated < self.step_size {
+                let until = if whole_steps {
+                    self.step_size
+                } else {
+                    self.evaluated + 1
+                };
+                self.evaluate_candidates(self.evaluated, until);
+                self.evaluated = until;
+            }
+            // On one thread a slice judges the stability of one candidate, after the last
+            // candidate's own evaluation or in a slice of its own.
+            if self.evaluated == self.step_size
+                && (!self.defers_stability()
+                    || self.judge_deferred_stability(if whole_steps { 6 } else { 1 }))
+            {
                 self.finish_step();
                 step_done = true;
             }
@@ -447,6 +477,10 @@ impl<'a> GraspPlanner<'a> {
             let e = self.results[k]
                 .take()
                 .expect("every candidate was evaluated");
+            // A candidate whose stability was left unjudged could not have been chosen.
+            if self.ctx.stability_pending(&e) {
+                continue;
+            }
             self.consider_best(&e);
             // Beyond the thesis: a valid grasp beats an invalid one whatever their qualities.
             if (e.validity.is_ok(), e.quality)
@@ -474,17 +508,80 @@ impl<'a> GraspPlanner<'a> {
         };
     }
 
+    /// Does the planner judge its candidates' stability lazily
+    /// ([`SearchParams::lazy_stability`])?
+    fn defers_stability(&self) -> bool {
+        self.params.lazy_stability
+            && self.ctx.validity == ValidityRule::Holds
+            && self.ctx.quality_ignores_stability()
+    }
+
+    /// Judges the stability of at most `most` more of the step's candidates that need it, best
+    /// quality first (ties in candidate order, as the move compares them), until one holds: no
+    /// candidate of lower quality can then become the current or the best pose. It stops sooner
+    /// at a quality that can beat neither the valid current pose nor the best. Returns whether
+    /// the step's outcome is decided; called again, it goes on where it stopped.
+    fn judge_deferred_stability(&mut self, mut most: usize) -> bool {
+        let n = self.step_size;
+        let mut order = [0, 1, 2, 3, 4, 5];
+        let quality = |k: usize| {
+            self.results[k]
+                .as_ref()
+                .map_or(f64::NEG_INFINITY, |e| e.quality)
+        };
+        order[..n].sort_by(|&a, &b| quality(b).total_cmp(&quality(a)).then(a.cmp(&b)));
+        for &k in &order[..n] {
+            let Some(e) = self.results[k].as_mut() else {
+                continue;
+            };
+            if !self.ctx.stability_pending(e) {
+                continue;
+            }
+            let beats_current = self.current.validity.is_err() || e.quality > self.current.quality;
+            let beats_best = self
+                .best_valid
+                .as_ref()
+                .is_none_or(|b| e.quality > b.quality);
+            if !beats_current && !beats_best {
+                return true;
+            }
+            if most == 0 {
+                return false;
+            }
+            most -= 1;
+            let ws = &mut self.workspaces[0];
+            ws.capsules.clone_from(&self.candidate_capsules[k]);
+            self.ctx.judge_stability(e, ws);
+            if e.validity.is_ok() {
+                return true;
+            }
+        }
+        true
+    }
+
     /// Evaluates candidates `from..to` of the step in progress into `results`.
     fn evaluate_candidates(&mut self, from: usize, to: usize) {
+        let lazy = self.defers_stability();
         let ctx = &self.ctx;
+        let evaluate = |r: &Rotation, ws: &mut Workspace, capsules: &mut Vec<Capsule>| {
+            if !lazy {
+                return ctx.evaluate(r, ws);
+            }
+            let e = ctx.evaluate_pose(r, ws);
+            if ctx.stability_pending(&e) {
+                capsules.clone_from(&ws.capsules);
+            }
+            e
+        };
         let candidates = &self.candidates[from..to];
         let results = &mut self.results[from..to];
+        let capsules = &mut self.candidate_capsules[from..to];
         let n = to - from;
         let threads = self.workspaces.len().min(n);
         if threads <= 1 {
             let ws = &mut self.workspaces[0];
-            for (slot, r) in results.iter_mut().zip(candidates) {
-                *slot = Some(ctx.evaluate(r, ws));
+            for ((slot, r), c) in results.iter_mut().zip(candidates).zip(capsules) {
+                *slot = Some(evaluate(r, ws, c));
             }
             return;
         }
@@ -496,9 +593,10 @@ impl<'a> GraspPlanner<'a> {
             .par_iter_mut()
             .zip(candidates.par_chunks(per))
             .zip(results.par_chunks_mut(per))
-            .for_each(|((ws, rotations), slots)| {
-                for (slot, r) in slots.iter_mut().zip(rotations) {
-                    *slot = Some(ctx.evaluate(r, ws));
+            .zip(capsules.par_chunks_mut(per))
+            .for_each(|(((ws, rotations), slots), capsules)| {
+                for ((slot, r), c) in slots.iter_mut().zip(rotations).zip(capsules) {
+                    *slot = Some(evaluate(r, ws, c));
                 }
             });
     }

@@ -307,6 +307,19 @@ impl EvaluationContext<'_> {
     /// Places the hand for `rotation` (TranslateToFree, then finger closing) and evaluates it.
     /// The pose stays in `ws`.
     pub fn evaluate(&self, rotation: &Rotation, ws: &mut Workspace) -> Evaluation {
+        let mut eval = self.evaluate_pose(rotation, ws);
+        if self.stability_pending(&eval) {
+            self.judge_stability(&mut eval, ws);
+        }
+        eval
+    }
+
+    /// [`EvaluationContext::evaluate`] but for the stability of its contacts: under
+    /// [`ValidityRule::Holds`] a pose that passes every other check is left `Ok` with no
+    /// `closure_margin` ([`EvaluationContext::stability_pending`]), for
+    /// [`EvaluationContext::judge_stability`] to finish from its world capsules. Its quality is
+    /// final when the stability weight is 0.
+    pub fn evaluate_pose(&self, rotation: &Rotation, ws: &mut Workspace) -> Evaluation {
         let mut eval = Evaluation {
             rotation: *rotation,
             quality: f64::NEG_INFINITY,
@@ -354,26 +367,47 @@ impl EvaluationContext<'_> {
             .filter(|f| f.bones.iter().any(|&b| ws.touching[b]))
             .count();
         eval.validity = self.validity(outcome.started_in_collision, eval.fingers_touching, ws);
-        if eval.validity.is_ok() && self.validity == ValidityRule::Holds {
-            self.find_contacts(ws);
-            let margin = ws.wrench_space.closure_margin(
-                &ws.contacts,
-                &self.contact_model,
-                &self.object.center_of_mass(),
-                self.torque_scale,
-            );
-            eval.terms.stability = margin * self.torque_scale;
-            eval.validity = self.holds(margin, ws);
-            eval.closure_margin = Some(margin);
-        }
-        let w = &self.weights;
-        let t = &eval.terms;
-        eval.quality = -(w.gdist * t.gdist
-            + w.fdist * t.fdist
-            + w.tdist * t.tdist_contact
-            + w.wdist * t.wdist)
-            + w.stability * t.stability;
+        eval.quality = self.quality(&eval.terms);
         eval
+    }
+
+    /// Is `eval` (from [`EvaluationContext::evaluate_pose`]) valid but for the stability of its
+    /// contacts, which is not judged yet?
+    pub fn stability_pending(&self, eval: &Evaluation) -> bool {
+        self.validity == ValidityRule::Holds
+            && eval.validity.is_ok()
+            && eval.closure_margin.is_none()
+    }
+
+    /// Does a pose's quality leave out its stability (weight 0), so that a search may judge the
+    /// stability of only the poses whose validity could change what it does?
+    pub fn quality_ignores_stability(&self) -> bool {
+        self.weights.stability == 0.0
+    }
+
+    /// Finishes a pose [`EvaluationContext::stability_pending`] whose world capsules are in
+    /// `ws.capsules`: its contacts, force-closure margin, the rules that need contacts, and its
+    /// quality with the stability term.
+    pub fn judge_stability(&self, eval: &mut Evaluation, ws: &mut Workspace) {
+        ws.counters.stability_tests += 1;
+        self.find_contacts(ws);
+        let margin = ws.wrench_space.closure_margin(
+            &ws.contacts,
+            &self.contact_model,
+            &self.object.center_of_mass(),
+            self.torque_scale,
+        );
+        eval.terms.stability = margin * self.torque_scale;
+        eval.validity = self.holds(margin, ws);
+        eval.closure_margin = Some(margin);
+        eval.quality = self.quality(&eval.terms);
+    }
+
+    /// The weighted sum of the quality terms (Eq. 5.1–5.2, and the stability term).
+    fn quality(&self, t: &QualityTerms) -> f64 {
+        let w = &self.weights;
+        -(w.gdist * t.gdist + w.fdist * t.fdist + w.tdist * t.tdist_contact + w.wdist * t.wdist)
+            + w.stability * t.stability
     }
 
     /// Finds the contacts of the pose in `ws` (into `ws.contacts`).

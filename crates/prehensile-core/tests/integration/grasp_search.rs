@@ -467,27 +467,49 @@ fn turning_the_character_restarts_the_search() {
         "slices are not optimization steps"
     );
     assert!(p.current().validity != Err(prehensile_core::search::Invalid::NotEvaluated));
-    // With one thread, a step's slices are its candidates, one each (seven-pose: six).
-    let single = SearchParams {
-        threads: 1,
-        ..Default::default()
-    };
-    let mut q = GraspPlanner::new(&hand, &object, m, Point3::new(-0.4, 0.0, 0.3), single).unwrap();
-    while q.restarting() {
-        q.slice();
+    // With one thread, a step's slices are its candidates, one each (seven-pose: six), and the
+    // stability test of at most one candidate each: with the last candidate, then in slices of
+    // their own until the step's outcome is decided.
+    for lazy_stability in [false, true] {
+        let single = SearchParams {
+            threads: 1,
+            lazy_stability,
+            ..Default::default()
+        };
+        let mut q =
+            GraspPlanner::new(&hand, &object, m, Point3::new(-0.4, 0.0, 0.3), single).unwrap();
+        while q.restarting() {
+            q.slice();
+        }
+        for _ in 0..8 {
+            assert_eq!(q.status(), PlannerStatus::Searching);
+            let (steps, evaluations) = (q.stats().steps, q.stats().evaluations);
+            let tests = q.stats().stability_tests;
+            for _ in 0..5 {
+                q.slice();
+                assert_eq!(
+                    q.stats().steps,
+                    steps,
+                    "a step ends after its last candidate"
+                );
+            }
+            let mut slices = 0;
+            while q.stats().steps == steps {
+                let before = q.stats().stability_tests;
+                q.slice();
+                slices += 1;
+                if lazy_stability {
+                    assert!(q.stats().stability_tests <= before + 1);
+                }
+            }
+            let judged = q.stats().stability_tests - tests;
+            assert_eq!(
+                slices,
+                1 + judged.saturating_sub(1) as usize * usize::from(lazy_stability)
+            );
+            assert_eq!(q.stats().evaluations, evaluations + 6);
+        }
     }
-    let (steps, evaluations) = (q.stats().steps, q.stats().evaluations);
-    for _ in 0..5 {
-        q.slice();
-        assert_eq!(
-            q.stats().steps,
-            steps,
-            "a step ends with its last candidate"
-        );
-    }
-    q.slice();
-    assert_eq!(q.stats().steps, steps + 1);
-    assert_eq!(q.stats().evaluations, evaluations + 6);
     p.run_to_end();
     let r = GraspResult::from_planner(&p, &mut Workspace::new(&hand));
     assert_grasp(&object, &r, "after restart");
@@ -721,4 +743,71 @@ fn giving_up_early_keeps_the_start_of_the_full_sampling() {
             assert!(full.is_some());
         }
     }
+}
+
+/// Judging a step's candidates' stability lazily (best quality first, until one holds) takes the
+/// search down the same path as judging every candidate: the same current and best pose after
+/// every step and the same counts, with fewer stability tests. On one thread and on two.
+#[test]
+fn lazy_stability_takes_the_same_path_with_fewer_tests() {
+    let scan = fixture("robosuite_can.obj", 1.0);
+    let mut objects: Vec<ObjectModel> = BUILTIN_OBJECTS.iter().map(|n| common::object(n)).collect();
+    objects.push(scan);
+    let cases = [
+        ("human", "power", 1),
+        ("human", "precision", 1),
+        ("robot3", "close", 2),
+    ];
+    let (mut lazy_tests, mut eager_tests) = (0, 0);
+    for (hand, movement, threads) in cases {
+        let hand = common::hand(hand);
+        let m = hand.movement(movement).unwrap();
+        for object in &objects {
+            for seed in [1, 2] {
+                let shoulder = object.center_of_mass() + Vec3::new(-0.35, -0.2, 0.35);
+                let planner = |lazy_stability| {
+                    let params = SearchParams {
+                        seed,
+                        threads,
+                        lazy_stability,
+                        ..Default::default()
+                    };
+                    GraspPlanner::new(&hand, object, m, shoulder, params).unwrap()
+                };
+                let (mut lazy, mut eager) = (planner(true), planner(false));
+                let what = format!(
+                    "{} {movement} on {} seed {seed}",
+                    hand.name(),
+                    object.name()
+                );
+                loop {
+                    let (a, b) = (lazy.step(), eager.step());
+                    assert_eq!(a, b, "{what}");
+                    assert_eq!(lazy.current(), eager.current(), "{what}");
+                    assert_eq!(lazy.best(), eager.best(), "{what}");
+                    let (s, t) = (lazy.stats(), eager.stats());
+                    assert_eq!(
+                        (s.steps, s.evaluations, s.collision_queries, s.placements),
+                        (t.steps, t.evaluations, t.collision_queries, t.placements),
+                        "{what}"
+                    );
+                    if a != PlannerStatus::Searching {
+                        break;
+                    }
+                }
+                assert!(lazy.stats().stability_tests <= eager.stats().stability_tests);
+                // A search that never finds a valid grasp has to judge every candidate that
+                // passes the other checks: it saves nothing.
+                if eager.best().is_some() {
+                    lazy_tests += lazy.stats().stability_tests;
+                    eager_tests += eager.stats().stability_tests;
+                }
+            }
+        }
+    }
+    assert!(
+        3 * lazy_tests < eager_tests,
+        "searches that found a grasp: lazy judging made {lazy_tests} stability tests, judging \
+         every candidate {eager_tests}"
+    );
 }
