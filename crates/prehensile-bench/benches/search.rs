@@ -88,12 +88,18 @@ fn bench(c: &mut Criterion) {
             kind.poses(),
             kind.poses() as u32 * 24 * (v + n)
         );
-        // Row c also on two threads (the step's candidates shared out on rayon's pool).
-        let threads: &[usize] = if name == "c" { &[1, 2] } else { &[1] };
-        for &threads in threads {
-            let label = match threads {
-                1 => format!("{name}_P{}_v{v}_N{n}", kind.poses()),
-                t => format!("{name}_P{}_v{v}_N{n}_threads{t}", kind.poses()),
+        // Row c also on two threads (the step's candidates shared out on rayon's pool), and with
+        // every candidate's stability judged (`SearchParams::lazy_stability` off).
+        let variants: &[(usize, bool)] = if name == "c" {
+            &[(1, true), (2, true), (1, false)]
+        } else {
+            &[(1, true)]
+        };
+        for &(threads, lazy_stability) in variants {
+            let label = match (threads, lazy_stability) {
+                (1, true) => format!("{name}_P{}_v{v}_N{n}", kind.poses()),
+                (1, false) => format!("{name}_P{}_v{v}_N{n}_every_candidate", kind.poses()),
+                (t, _) => format!("{name}_P{}_v{v}_N{n}_threads{t}", kind.poses()),
             };
             let mut seed = 0;
             group.bench_function(label, |b| {
@@ -102,6 +108,7 @@ fn bench(c: &mut Criterion) {
                         seed += 1;
                         let p = SearchParams {
                             threads,
+                            lazy_stability,
                             ..params(kind, step_for_v(v), n, seed)
                         };
                         let mut planner =
