@@ -216,15 +216,18 @@ def build_here(result, mesh_path):
 
 def closing_directions(movement, model):
     """Per joint name, the sign in which the result's movement closes the hand: its end angle
-    (`prehensile hands --file HAND --json`) minus the open angle (zero clamped into the joint's
-    range); joints it moves less than 3 degrees get 0."""
+    minus its start angle (`prehensile hands --file HAND --json`; a build that does not give the
+    start: the open angle, zero clamped into the joint's range); joints it moves less than 3
+    degrees get 0."""
     details = {m["name"]: m for m in description()["movement_details"]}
+    start = details[movement].get("start_angles_deg", {})
     out = {}
     for name, end_deg in details[movement]["end_angles_deg"].items():
         if mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name) < 0:
             continue  # a degree of freedom the model holds fixed
         lo, hi = model.jnt_range[model.joint(name).id]
-        delta = np.radians(end_deg) - np.clip(0.0, lo, hi)
+        begin = np.radians(start[name]) if name in start else np.clip(0.0, lo, hi)
+        delta = np.radians(end_deg) - begin
         out[name] = float(np.sign(delta)) if abs(delta) > np.radians(3.0) else 0.0
     return out
 
@@ -318,6 +321,7 @@ def main():
     ap.add_argument("--keep", help="folder to keep each result JSON with its MuJoCo outcome in")
     args = ap.parse_args()
     HAND, CLI, CONVEX_PARTS = args.hand, args.cli, not args.hull_only
+    hand_mjcf.CLI = args.cli  # the same build describes the hand it searched with
     STIFF_FRICTION, MU = args.stiff_friction, args.mu
     total = held6 = held5 = gravity = 0
     rows = []

@@ -42,6 +42,7 @@ struct MovementSummary {
     name: String,
     grasp_center: [f64; 3],
     contact_fingers: Vec<String>,
+    start_angles_deg: std::collections::BTreeMap<String, f64>,
     end_angles_deg: std::collections::BTreeMap<String, f64>,
 }
 
@@ -82,6 +83,15 @@ struct CapsuleSummary {
     radius: f64,
 }
 
+/// Joint angles (radians, one per degree of freedom) in degrees under the joints' names.
+fn degrees_by_name(h: &HandModel, angles: &[f64]) -> std::collections::BTreeMap<String, f64> {
+    h.dof_names()
+        .iter()
+        .zip(angles)
+        .map(|(n, a)| (n.clone(), a.to_degrees()))
+        .collect()
+}
+
 fn summary(h: &HandModel) -> HandSummary {
     HandSummary {
         name: h.name().into(),
@@ -102,12 +112,8 @@ fn summary(h: &HandModel) -> HandSummary {
                     .iter()
                     .map(|&f| h.fingers()[f].name.clone())
                     .collect(),
-                end_angles_deg: h
-                    .dof_names()
-                    .iter()
-                    .zip(m.end_angles())
-                    .map(|(n, a)| (n.clone(), a.to_degrees()))
-                    .collect(),
+                start_angles_deg: degrees_by_name(h, m.start_angles()),
+                end_angles_deg: degrees_by_name(h, m.end_angles()),
             })
             .collect(),
         finger_details: h

@@ -204,8 +204,9 @@ fn human_grasps_every_builtin_object_from_several_shoulders_and_seeds() {
         grasps_power_and_precision(&hand, &object, name, &SHOULDERS, &mut found);
     }
     assert_eq!(found.power_failures, Vec::<String>::new());
-    // Opposed pinches exist (on the box and the cylinder at least).
-    assert!(found.precision >= 4, "{found:?}");
+    // Opposed pinches of most objects: 17 of 30 precision searches (4 with the thesis's start of
+    // the precision movement, thumb extended at the side).
+    assert!(found.precision >= 12, "{found:?}");
 }
 
 /// Searches `close` from every shoulder with seed 1 on every built-in object: every valid grasp

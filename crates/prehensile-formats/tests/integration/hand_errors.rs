@@ -154,12 +154,22 @@ fn the_human_hand_is_the_thesis_skeleton() {
     let a = power.end_angles();
     let (m, d) = (a[h.bones()[mid].first_dof], a[h.bones()[dist].first_dof]);
     assert!((d - 0.6667 * m).abs() < 1e-12 && m > 1.0);
-    // Shared start pose (Fig. 5.6).
-    assert_eq!(
-        power.start_angles(),
-        h.movement("precision").unwrap().start_angles()
-    );
-    assert_eq!(h.movement("precision").unwrap().contact_fingers(), &[0, 1]);
+    // The fingers start straight in both movements (Fig. 5.6); the precision grasp's thumb starts
+    // curled across the palm, opposite the index (assets/hands/human.toml).
+    let precision = h.movement("precision").unwrap();
+    let thumb_dofs = {
+        let last = &h.bones()[*h.fingers()[0].bones.last().unwrap()];
+        h.bones()[h.fingers()[0].bones[0]].first_dof..last.first_dof + last.joint.dofs()
+    };
+    for (k, (p, q)) in power
+        .start_angles()
+        .iter()
+        .zip(precision.start_angles())
+        .enumerate()
+    {
+        assert_eq!(p == q, !thumb_dofs.contains(&k), "degree of freedom {k}");
+    }
+    assert_eq!(precision.contact_fingers(), &[0, 1]);
 }
 
 fn with_couplings(pairs: &[(&str, &str)]) -> String {
