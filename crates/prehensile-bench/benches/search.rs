@@ -30,6 +30,15 @@ fn params(step: StepKind, translate_step: f64, n: u32, seed: u64) -> SearchParam
     }
 }
 
+/// Steps of one whole human power search, start to converged, from [`SHOULDER`].
+fn whole_search(hand: &HandModel, object: &ObjectModel, params: SearchParams) -> u32 {
+    let movement = hand.movement("power").unwrap();
+    let mut planner =
+        GraspPlanner::new(hand, object, movement, Point3::from(SHOULDER), params).unwrap();
+    planner.run_to_end();
+    planner.stats().steps
+}
+
 /// Mean placements per evaluated pose and queries per step over 40 steps from 10 seeds.
 fn counts(hand: &HandModel, object: &ObjectModel, p: &SearchParams) -> (f64, f64) {
     let movement = hand.movement("power").unwrap();
@@ -149,10 +158,7 @@ fn bench(c: &mut Criterion) {
                     threads,
                     ..Default::default()
                 };
-                let mut planner =
-                    GraspPlanner::new(&hand, obj, movement, Point3::from(SHOULDER), p).unwrap();
-                planner.run_to_end();
-                planner.stats().steps
+                whole_search(&hand, obj, p)
             })
         });
     }
@@ -177,10 +183,7 @@ fn bench(c: &mut Criterion) {
                         lazy_stability,
                         ..Default::default()
                     };
-                    let mut planner =
-                        GraspPlanner::new(&hand, obj, movement, Point3::from(SHOULDER), p).unwrap();
-                    planner.run_to_end();
-                    planner.stats().steps
+                    whole_search(&hand, obj, p)
                 })
             });
         }
