@@ -105,7 +105,7 @@ pub fn parse_gltf_triangles(
                     Some(i) => i.into_u32().map(|i| i as usize).collect(),
                     None => (0..count).collect(),
                 };
-                if indices.len() % 3 != 0 {
+                if !indices.len().is_multiple_of(3) {
                     return Err(FormatError::at(
                         &name,
                         &at,

@@ -483,7 +483,7 @@ fn pair_up(
 ) -> bool {
     const EMPTY: u32 = u32::MAX;
     const PAIRED: u32 = 1 << 31;
-    if count % 2 != 0 || count >= PAIRED as usize {
+    if !count.is_multiple_of(2) || count >= PAIRED as usize {
         return false;
     }
     let size = (2 * count).next_power_of_two().max(16);
