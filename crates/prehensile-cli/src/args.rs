@@ -83,7 +83,7 @@ pub struct BatchArgs {
     /// 'scans/*.stl' (quoted).
     #[arg(long, num_args = 1.., value_delimiter = ',', default_values_t = prehensile_core::shapes::BUILTIN_OBJECTS.map(String::from))]
     pub objects: Vec<String>,
-    /// Movements of the hands, or auto (try each, keep the best).
+    /// Movements of the hands, or auto (try each, keep the best; a movement with nothing valid after 100 steps stops once another has found its grasp).
     #[arg(long, num_args = 1.., value_delimiter = ',', default_value = "auto")]
     pub movements: Vec<String>,
     /// Shoulders: default (the hand's default for the object) or X,Y,Z (space-separated).
@@ -250,7 +250,7 @@ pub struct GraspArgs {
     /// Units, scale and repair of the mesh.
     #[command(flatten)]
     pub mesh_options: MeshOptions,
-    /// power, precision, close, any movement of the hand, or auto (try each, keep the best).
+    /// power, precision, close, any movement of the hand, or auto (try each, keep the best; a movement with nothing valid after 100 steps stops once another has found its grasp).
     #[arg(long, default_value = "auto")]
     pub movement: String,
     /// Hook position X,Y,Z in the object's frame (default: its centre of mass).

@@ -13,7 +13,9 @@ pub mod start_position;
 pub mod translate_to_free;
 pub mod wrist_range;
 
-pub use find_grasp::{better_grasp, find_grasp, movements_to_try, GraspRequest, AUTO_MOVEMENT};
+pub use find_grasp::{
+    better_grasp, find_grasp, movements_to_try, GraspRequest, AUTO_MOVEMENT, AUTO_PATIENCE,
+};
 pub use optimization_step::StepKind;
 pub use planner::{
     GraspPlanner, PlannerStatus, SearchError, SearchParams, SearchSink, SearchStats, StopRule,

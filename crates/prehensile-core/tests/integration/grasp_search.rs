@@ -311,7 +311,7 @@ fn same_seed_same_grasp_and_threads_do_not_change_it() {
 #[test]
 fn movements_searched_side_by_side_give_the_same_result_and_every_event() {
     // `auto` on several threads searches the human hand's movements each on a thread of its
-    // own, passing their events on to the caller's sink.
+    // own, passing their events on to the caller's sink; on one thread a step each in turn.
     #[derive(Default)]
     struct Heard {
         started: Vec<String>,
@@ -370,6 +370,26 @@ fn movements_searched_side_by_side_give_the_same_result_and_every_event() {
     expected.sort();
     assert_eq!(started, expected);
     assert_eq!(heard.steps, heard_one.steps);
+    // The patience rule: the power grasp ends valid within AUTO_PATIENCE steps, the precision
+    // search finds nothing valid on the sphere and stops at AUTO_PATIENCE, not at the step
+    // limit, on one thread and on two.
+    let patience = prehensile_core::search::AUTO_PATIENCE;
+    assert!(one.valid && one.movement == "power", "{}", one.movement);
+    assert!(heard.steps["power"] <= patience, "{:?}", heard.steps);
+    assert_eq!(heard.steps["precision"], patience, "{:?}", heard.steps);
+    let precision_alone = prehensile_core::search::find_grasp(
+        &hand,
+        &object,
+        &prehensile_core::search::GraspRequest {
+            movement: "precision".into(),
+            shoulder: Point3::new(-0.35, -0.2, 0.35),
+            params: SearchParams::default(),
+            budget: None,
+        },
+        &mut (),
+    )
+    .unwrap();
+    assert!(!precision_alone.valid && precision_alone.stats.steps > patience);
 }
 
 #[test]
