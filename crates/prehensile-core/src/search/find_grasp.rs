@@ -130,6 +130,7 @@ pub fn find_grasp(
     Ok(best.expect("movements_to_try returns at least one movement"))
 }
 
+/// The planner of one movement of the request.
 fn planner<'a>(
     hand: &'a HandModel,
     object: &'a ObjectModel,
@@ -145,6 +146,7 @@ fn planner<'a>(
     )
 }
 
+/// The planner's result (its best valid pose, else its current one).
 fn result(hand: &HandModel, planner: &GraspPlanner) -> GraspResult {
     GraspResult::from_planner(planner, &mut Workspace::new(hand))
 }
@@ -156,6 +158,16 @@ struct Progress {
     steps: u32,
     /// `Some(valid)` once the search has ended, with or without a valid grasp.
     ended: Option<bool>,
+}
+
+impl Progress {
+    /// Records the planner's step, and its end when it stopped `searching`.
+    fn record(&mut self, planner: &GraspPlanner, searching: bool) {
+        self.steps = planner.stats().steps;
+        if !searching {
+            self.ended = Some(planner.best().is_some());
+        }
+    }
 }
 
 /// The patience rule of [`find_grasp`]: does search `me`, with no valid pose after its
@@ -194,10 +206,7 @@ fn search_in_turn(
                 last = Some(k);
             }
             let searching = planner.step_into(sink) == PlannerStatus::Searching;
-            progress[k].steps = planner.stats().steps;
-            if !searching {
-                progress[k].ended = Some(planner.best().is_some());
-            }
+            progress[k].record(planner, searching);
         }
         // Judged after the round, every search at the same step (or ended).
         for (k, planner) in planners.iter().enumerate() {
@@ -227,10 +236,8 @@ impl Race {
     /// [`AUTO_PATIENCE`] steps first waits for every search behind it to reach its step.
     fn after_step(&self, k: usize, planner: &GraspPlanner, searching: bool) -> bool {
         let mut progress = self.lock();
-        progress[k].steps = planner.stats().steps;
-        if !searching {
-            progress[k].ended = Some(planner.best().is_some());
-        } else if planner.best().is_none() && progress[k].steps >= AUTO_PATIENCE {
+        progress[k].record(planner, searching);
+        if searching && planner.best().is_none() && progress[k].steps >= AUTO_PATIENCE {
             self.advanced.notify_all();
             let steps = progress[k].steps;
             progress = self
