@@ -1,9 +1,11 @@
 //! Object setup (`ObjectModel::new`: checks, repairs, BVH, distance grid, hooks, mass
-//! properties) on tori of 16k, 262k and 1M triangles, 11.8 cm across.
+//! properties) on tori of 16k, 262k and 1M triangles, 11.8 cm across, and on three open scans of
+//! `assets/objects`, whose inside comes from winding numbers.
 //!
 //! Run: `cargo bench -p prehensile-bench --bench object_setup`
 
 use std::hint::black_box;
+use std::path::PathBuf;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use prehensile_core::{shapes, ObjectModel};
@@ -16,6 +18,19 @@ fn bench(c: &mut Criterion) {
         let label = format!("torus_{}_triangles", mesh.triangles.len());
         group.bench_function(label, |b| {
             b.iter(|| black_box(ObjectModel::new("torus", mesh.clone(), None).unwrap()))
+        });
+    }
+    for scan in [
+        "robosuite_bottle.stl",
+        "robosuite_can_with_holes.stl",
+        "pybullet_mug.obj",
+    ] {
+        let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+            .join("../../assets/objects/")
+            .join(scan);
+        let mesh = prehensile_formats::read_mesh(&path, 1.0).unwrap();
+        group.bench_function(format!("open_scan_{scan}"), |b| {
+            b.iter(|| black_box(ObjectModel::new(scan, mesh.clone(), None).unwrap()))
         });
     }
     group.finish();

@@ -551,24 +551,18 @@ impl TriangleMesh {
         (mesh, degenerate.len())
     }
 
-    /// Checks topology and geometry: closed, manifold, consistently wound, no degenerate
-    /// triangles, positive volume. Every defect names where it is and how to fix it.
-    pub fn report(&self) -> MeshReport {
-        let (lo, hi) = self.bounds();
-        let size = hi - lo;
-        // Directed edge -> count, to find boundary, non-manifold and flipped edges.
+    /// Every edge (lower vertex index first) with how many triangles run along it from the lower
+    /// index to the higher and how many the other way. A collapsed triangle's edge from a vertex
+    /// to itself is no edge.
+    fn edge_uses(&self) -> HashMap<(u32, u32), (u32, u32)> {
         let mut edges: HashMap<(u32, u32), (u32, u32)> = HashMap::new();
-        let degenerate = self.degenerate_triangles();
         for tri in &self.triangles {
             for k in 0..3 {
                 let (u, v) = (tri[k], tri[(k + 1) % 3]);
-                // A collapsed triangle's edge from a vertex to itself is no edge (the triangle is
-                // reported as degenerate).
                 if u == v {
                     continue;
                 }
-                let key = (u.min(v), u.max(v));
-                let e = edges.entry(key).or_insert((0, 0));
+                let e = edges.entry((u.min(v), u.max(v))).or_insert((0, 0));
                 if u < v {
                     e.0 += 1;
                 } else {
@@ -576,6 +570,35 @@ impl TriangleMesh {
                 }
             }
         }
+        edges
+    }
+
+    /// The edges along which the triangles do not cancel (a hole's rim, a non-manifold or a
+    /// flipped edge): the boundary of the surface, which alone keeps its winding number from
+    /// being a whole number. Each edge runs the way more triangles run along it, with how many
+    /// more; sorted, so the same mesh gives the same list.
+    pub fn unbalanced_edges(&self) -> Vec<([u32; 2], u32)> {
+        let mut edges: Vec<_> = self
+            .edge_uses()
+            .into_iter()
+            .filter(|(_, (fwd, back))| fwd != back)
+            .map(|((u, v), (fwd, back))| {
+                let ends = if fwd > back { [u, v] } else { [v, u] };
+                (ends, fwd.abs_diff(back))
+            })
+            .collect();
+        edges.sort_unstable();
+        edges
+    }
+
+    /// Checks topology and geometry: closed, manifold, consistently wound, no degenerate
+    /// triangles, positive volume. Every defect names where it is and how to fix it.
+    pub fn report(&self) -> MeshReport {
+        let (lo, hi) = self.bounds();
+        let size = hi - lo;
+        // To find boundary, non-manifold and flipped edges.
+        let edges = self.edge_uses();
+        let degenerate = self.degenerate_triangles();
         let mut boundary = Vec::new();
         let mut non_manifold = Vec::new();
         let mut inconsistent = Vec::new();

@@ -6,21 +6,33 @@
 //! self-intersecting), the winding number is constant between two crossings and changes by ±1 at
 //! each, so counting crossings gives it without a query and the inside length along the line is
 //! exact; the same count finds space covered twice ([`overlaps_itself`]). Around the holes or
-//! flipped faces of other meshes it changes smoothly between crossings, so a piece is sampled at
-//! up to [`SAMPLES_PER_PIECE`] points and each change between neighbouring samples located by
-//! bisection. The inside lengths times the cells' areas sum to the volume (midpoint rule across x
-//! and y: within 1% on the shapes of `tests/integration/winding_oracle.rs`).
+//! flipped faces of other meshes it changes smoothly between crossings: there it is a whole
+//! number, counted from the crossings of the surface and of its [`BoundaryFan`], plus the fan's
+//! own winding number, which costs one solid angle per boundary edge. Lines far from the fan are
+//! counted alone; on the others each piece between crossings is sampled at up to
+//! [`SAMPLES_PER_PIECE`] points and just inside its ends, and each change between neighbouring
+//! samples located by regula falsi. A line whose crossings do not add up (through an edge) is
+//! sampled with winding-tree queries instead. The inside lengths times the cells' areas sum to
+//! the volume (midpoint rule across x and y: within 1% on the shapes of
+//! `tests/integration/winding_oracle.rs`).
 
 use rayon::prelude::*;
 
 use crate::math::{Point3, Vec3};
 
-use super::TriangleBvh;
+use super::{BoundaryFan, TriangleBvh};
 
+/// Below this bound on the fan's |w| along a line, the inside is where the whole part is not 0.
+const FAR_FROM_FAN: f64 = 0.1;
 /// Most samples along one piece between crossings when the winding number may vary there.
 const SAMPLES_PER_PIECE: usize = 6;
-/// Bisection steps locating where the inside ends between two samples (1/256 of their gap).
-const BISECTIONS: usize = 8;
+/// Most winding-number queries locating where the inside ends between two samples: as many as
+/// bisection needs for 1/256 of their gap.
+const ROOT_STEPS: usize = 8;
+/// The inside's end is located once |w| is this close to ½: a twentieth of the tree's
+/// approximation error ([`crate::collision::TriangleBvh::with_winding_numbers`], within 0.02 of
+/// libigl's exact sums), so locating it more closely would refine noise.
+const ROOT_WINDING_TOLERANCE: f64 = 1e-3;
 
 /// A grid of vertical lines over the box of a mesh: `cells` along its longer horizontal side,
 /// tiling both sides exactly, each line off-centre in its cell by irrational fractions so that
@@ -111,14 +123,30 @@ pub fn overlaps_itself(exact: &TriangleBvh, cells: usize) -> bool {
         .any(|overlapping| overlapping)
 }
 
-/// Volume (m³) and centroid of the points of `exact`'s bounding box that [`TriangleBvh::inside`]
-/// calls inside, integrated on `cells` lines along the longer horizontal side of the box.
-/// `piecewise_constant` says that every edge is balanced, so crossings can be counted.
+/// What [`inside_volume_and_centroid`] integrated.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InsideVolume {
+    /// Volume of the inside, m³.
+    pub volume: f64,
+    /// Its centroid (the box's centre when it has no volume).
+    pub centroid: Point3,
+    /// How many lines were integrated.
+    pub lines: usize,
+    /// How many of them needed winding-tree queries: their crossings did not add up (a line
+    /// through an edge), or the mesh's boundary fan was not given.
+    pub lines_from_tree: usize,
+}
+
+/// Volume (m³) and centroid of the points of `exact`'s bounding box where the generalized
+/// winding number exceeds ½ in magnitude (as [`TriangleBvh::inside`] decides, but summed exactly
+/// on the lines the fan splits), integrated on `cells` lines along the longer horizontal side of
+/// the box. `fan` is the mesh's [`BoundaryFan`]; where it is empty, every line's crossings are
+/// counted.
 pub fn inside_volume_and_centroid(
     exact: &TriangleBvh,
     cells: usize,
-    piecewise_constant: bool,
-) -> (f64, Point3) {
+    fan: &BoundaryFan,
+) -> InsideVolume {
     let (lo, hi) = exact.bounds();
     let longer = (hi.x - lo.x).max(hi.y - lo.y);
     // Samples along a piece between crossings at about the line spacing.
@@ -126,43 +154,75 @@ pub fn inside_volume_and_centroid(
     let lines = LineGrid::new(exact, cells);
     // Lines in parallel (with winding-number queries an open scan's lines take most of its
     // setup), summed afterwards in line order: the same sums, bit for bit, on any thread count.
-    let per_line: Vec<(f64, f64, f64, f64)> = (0..lines.len())
+    let per_line: Vec<(f64, f64, f64, f64, bool)> = (0..lines.len())
         .into_par_iter()
         .map_init(
-            || (Vec::new(), Vec::new()),
-            |(crossings, heights), k| {
-                let (x, y) = lines.crossings(exact, k, crossings);
+            || (Vec::new(), Vec::new(), Vec::new()),
+            |(surface, both, heights), k| {
+                let (x, y) = lines.crossings(exact, k, surface);
                 let (mut length, mut height_moment) = (0.0, 0.0);
                 let mut add = |z0: f64, z1: f64| {
                     length += z1 - z0;
                     height_moment += 0.5 * (z1 * z1 - z0 * z0);
                 };
-                match counted_windings(crossings).filter(|_| piecewise_constant) {
-                    Some(windings) => {
-                        for (z0, z1, winding) in windings {
-                            if winding != 0 {
-                                add(z0, z1);
-                            }
+                both.clear();
+                both.extend_from_slice(surface);
+                fan.vertical_crossings(x, y, both);
+                both.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+                // S − F is closed and lies within the box, so w_S − w_F is the same whole number
+                // all over the plane below the box: 0, as at infinity. It changes by each
+                // crossing's count and must come back to 0 above the box.
+                let counted = both.iter().map(|c| c.1).sum::<i32>() == 0;
+                // Each piece between crossings of the surface or the fan, with the whole number
+                // w_S − w_F on it; the floor and ceiling bound the first and the last.
+                let pieces = || {
+                    let (mut from, mut whole) = (lo.z, 0);
+                    both.iter()
+                        .copied()
+                        .chain([(hi.z, 0)])
+                        .map(move |(z, change)| {
+                            let piece = (from, z, whole);
+                            (from, whole) = (z, whole + change);
+                            piece
+                        })
+                };
+                if counted && (fan.is_empty() || fan.winding_bound(x, y) <= FAR_FROM_FAN) {
+                    // |w_F| is small along the whole line: inside wherever the whole part is
+                    // not 0.
+                    for (z0, z1, whole) in pieces() {
+                        if whole != 0 {
+                            add(z0, z1);
                         }
                     }
-                    None => {
-                        // The box's floor and ceiling too: over an open cup's mouth the inside
-                        // ends without a crossing.
-                        heights.clear();
-                        heights.extend(crossings.iter().map(|c| c.0));
-                        heights.extend([lo.z, hi.z]);
-                        heights.sort_unstable_by(f64::total_cmp);
-                        for pair in heights.windows(2) {
-                            inside_parts_of_piece(exact, x, y, pair[0], pair[1], step, &mut add);
-                        }
+                } else if counted {
+                    for (z0, z1, whole) in pieces() {
+                        let beyond_half = |z: f64| {
+                            let w = f64::from(whole) + fan.winding_number(&Point3::new(x, y, z));
+                            w.abs() - 0.5
+                        };
+                        inside_parts_of_piece(&beyond_half, z0, z1, step, &mut add);
+                    }
+                } else {
+                    // A line through an edge that crossed it twice or missed it: the winding
+                    // tree along the line, between the surface's crossings.
+                    heights.clear();
+                    heights.extend(surface.iter().map(|c| c.0));
+                    heights.extend([lo.z, hi.z]);
+                    heights.sort_unstable_by(f64::total_cmp);
+                    // Positive inside, as `TriangleBvh::inside` decides it within the box.
+                    let beyond_half =
+                        |z: f64| exact.winding_number(&Point3::new(x, y, z)).abs() - 0.5;
+                    for pair in heights.windows(2) {
+                        inside_parts_of_piece(&beyond_half, pair[0], pair[1], step, &mut add);
                     }
                 }
-                (x, y, length, height_moment)
+                (x, y, length, height_moment, !counted)
             },
         )
         .collect();
     let (mut volume, mut moment) = (0.0, Vec3::zeros());
-    for (x, y, length, height_moment) in per_line {
+    let lines_from_tree = per_line.iter().filter(|line| line.4).count();
+    for (x, y, length, height_moment, _) in per_line {
         volume += length;
         moment += Vec3::new(x * length, y * length, height_moment);
     }
@@ -174,16 +234,21 @@ pub fn inside_volume_and_centroid(
     } else {
         nalgebra::center(&lo, &hi)
     };
-    (volume, centroid)
+    InsideVolume {
+        volume,
+        centroid,
+        lines: lines.len(),
+        lines_from_tree,
+    }
 }
 
-/// Calls `add(z0, z1)` for the inside parts of the piece `start..end` of the line through
-/// `(x, y)`: sampled at up to [`SAMPLES_PER_PIECE`] points about `step` apart, each change
-/// between neighbouring samples located by bisection.
+/// Calls `add(z0, z1)` for the parts of the piece `start..end` of a line where `beyond_half`
+/// (|w| − ½, smooth along the piece) is positive: sampled just inside both ends and at up to
+/// [`SAMPLES_PER_PIECE`] points about `step` apart between them, each change between
+/// neighbouring samples located by [`inside_end`]. The ends matter: where a piece ends at the
+/// boundary fan, the inside usually ends just before it.
 fn inside_parts_of_piece(
-    exact: &TriangleBvh,
-    x: f64,
-    y: f64,
+    beyond_half: &impl Fn(f64) -> f64,
     start: f64,
     end: f64,
     step: f64,
@@ -192,39 +257,72 @@ fn inside_parts_of_piece(
     if end <= start {
         return;
     }
-    let inside_at = |z: f64| exact.inside(&Point3::new(x, y, z));
-    let samples = ((end - start) / step)
+    let inner = ((end - start) / step)
         .ceil()
         .clamp(1.0, SAMPLES_PER_PIECE as f64) as usize;
-    let piece = (end - start) / samples as f64;
-    let at = |k: usize| start + (k as f64 + 0.5) * piece;
-    let mut flags = [false; SAMPLES_PER_PIECE];
-    for (k, flag) in flags.iter_mut().enumerate().take(samples) {
-        *flag = inside_at(at(k));
-    }
-    // Sample k owns [lower, upper]; between two samples that disagree the bound is where the
-    // inside ends, found by bisection.
-    let mut lower = start;
-    for k in 0..samples {
-        let upper = if k + 1 == samples {
-            end
-        } else if flags[k] == flags[k + 1] {
-            start + (k + 1) as f64 * piece
-        } else {
-            let (mut a, mut b) = (at(k), at(k + 1));
-            for _ in 0..BISECTIONS {
-                let mid = 0.5 * (a + b);
-                if inside_at(mid) == flags[k] {
-                    a = mid;
-                } else {
-                    b = mid;
-                }
-            }
-            0.5 * (a + b)
+    let piece = (end - start) / inner as f64;
+    let inset = 1e-3 * piece;
+    let mut samples = [(0.0, 0.0); SAMPLES_PER_PIECE + 2];
+    let count = inner + 2;
+    for (k, sample) in samples.iter_mut().enumerate().take(count) {
+        let z = match k {
+            0 => start + inset,
+            k if k == count - 1 => end - inset,
+            k => start + (k as f64 - 0.5) * piece,
         };
-        if flags[k] {
-            add(lower, upper);
-        }
-        lower = upper;
+        *sample = (z, beyond_half(z));
     }
+    let mut inside = samples[0].1 > 0.0;
+    let mut lower = start;
+    for pair in samples[..count].windows(2) {
+        if (pair[1].1 > 0.0) != inside {
+            let upper = inside_end(beyond_half, pair[0], pair[1]);
+            if inside {
+                add(lower, upper);
+            }
+            (lower, inside) = (upper, !inside);
+        }
+    }
+    if inside {
+        add(lower, end);
+    }
+}
+
+/// Where `g` (|w| − ½ along a line, smooth between crossings) changes sign between `(a, g(a))`
+/// and `(b, g(b))`, whose signs differ: regula falsi with the Illinois halving, which keeps both
+/// ends of the bracket moving. Stops once |g| is within [`ROOT_WINDING_TOLERANCE`] or the bracket
+/// is 1/256 of its start, after at most [`ROOT_STEPS`] queries (bisection took 8).
+fn inside_end(
+    g: &impl Fn(f64) -> f64,
+    (mut a, mut ga): (f64, f64),
+    (mut b, mut gb): (f64, f64),
+) -> f64 {
+    let narrow = (b - a).abs() / 256.0;
+    let secant = |a: f64, ga: f64, b: f64, gb: f64| (a * gb - b * ga) / (gb - ga);
+    // Which end moved last: a second move of the same end halves the other's value.
+    let mut moved_a_last = None;
+    for _ in 0..ROOT_STEPS {
+        let z = secant(a, ga, b, gb);
+        let gz = g(z);
+        if gz.abs() <= ROOT_WINDING_TOLERANCE {
+            return z;
+        }
+        if (gz > 0.0) == (ga > 0.0) {
+            (a, ga) = (z, gz);
+            if moved_a_last == Some(true) {
+                gb *= 0.5;
+            }
+            moved_a_last = Some(true);
+        } else {
+            (b, gb) = (z, gz);
+            if moved_a_last == Some(false) {
+                ga *= 0.5;
+            }
+            moved_a_last = Some(false);
+        }
+        if (b - a).abs() <= narrow {
+            break;
+        }
+    }
+    secant(a, ga, b, gb)
 }

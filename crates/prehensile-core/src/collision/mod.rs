@@ -7,13 +7,15 @@
 //! signed distance whose sign flips across a hole, away from any triangle, is not the Lipschitz
 //! function the grid's bounds need.
 
+mod boundary_fan;
 mod fast_winding_number;
 mod inside_volume;
 mod signed_distance_grid;
 mod triangle_bvh;
 
+pub use boundary_fan::BoundaryFan;
 pub use fast_winding_number::{triangle_solid_angle, WindingNumberTree};
-pub use inside_volume::{inside_volume_and_centroid, overlaps_itself};
+pub use inside_volume::{inside_volume_and_centroid, overlaps_itself, InsideVolume};
 pub use signed_distance_grid::{Decision, SignedDistanceGrid};
 pub use triangle_bvh::{SurfacePoint, TriangleBvh};
 

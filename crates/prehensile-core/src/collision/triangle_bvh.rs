@@ -470,7 +470,7 @@ fn unit_or(v: Vec3, fallback: Vec3) -> Vec3 {
 
 /// Height where the vertical line through `(x, y)` crosses triangle `abc`, if it does, and the
 /// change of winding number going up through it.
-fn vertical_crossing([a, b, c]: &[Point3; 3], x: f64, y: f64) -> Option<(f64, i32)> {
+pub(super) fn vertical_crossing([a, b, c]: &[Point3; 3], x: f64, y: f64) -> Option<(f64, i32)> {
     // Barycentric coordinates of (x, y) in the triangle's projection on the xy plane.
     let det = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
     if det.abs() < 1e-300 {
