@@ -178,12 +178,12 @@ impl ObjectModel {
             // boundary the winding tree sees, without them.
             let fan = BoundaryFan::new(&mesh);
             let collider = MeshCollider::from_exact(exact.into_winding_numbers(), 0.03);
-            let cells = if fan.is_empty() {
+            let cells = if fan.as_ref().is_some_and(BoundaryFan::is_empty) {
                 VOLUME_CELLS
             } else {
                 VOLUME_CELLS / 4
             };
-            let inside = inside_volume_and_centroid(collider.exact(), cells, &fan);
+            let inside = inside_volume_and_centroid(collider.exact(), cells, fan.as_ref());
             let (volume, center_of_mass) = (inside.volume, inside.centroid);
             let encloses = volume > ENCLOSED_FRACTION * report.size.iter().product::<f64>();
             if !encloses {

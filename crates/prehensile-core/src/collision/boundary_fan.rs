@@ -23,6 +23,10 @@ use super::triangle_bvh::vertical_crossing;
 /// boundary: scans' seams are 10⁻⁹–10⁻⁸ m apart, real holes millimetres.
 pub const SEAM_WIDTH: f64 = 1e-6;
 
+/// Most boundary edges a fan is built over: summing its solid angles then costs about one
+/// winding-tree query.
+pub const MAX_FAN_TRIANGLES: usize = 256;
+
 /// One fan triangle: its corners, how many times it counts, and its area and (x, y) bounds for
 /// the far-field bound.
 #[derive(Debug, Clone, Copy)]
@@ -45,12 +49,17 @@ impl BoundaryFan {
     /// connected part of them, triangles from the mean of its vertices over each of its edges.
     /// Vertices within [`SEAM_WIDTH`] of the mesh's size are welded first, so that the two
     /// edges of a seam a hair apart cancel instead of making a fan each: S − F is then closed
-    /// but for strips that narrow, which a line meets only by chance.
-    pub fn new(mesh: &TriangleMesh) -> Self {
+    /// but for strips that narrow, which a line meets only by chance. `None` when the boundary
+    /// has more than [`MAX_FAN_TRIANGLES`] edges (a triangle soup): the fan would cost more
+    /// than the winding tree.
+    pub fn new(mesh: &TriangleMesh) -> Option<Self> {
         let (lo, hi) = mesh.bounds();
         let (mesh, _) = mesh.weld_within(SEAM_WIDTH * (hi - lo).max());
         let mesh = &mesh;
         let edges = mesh.unbalanced_edges();
+        if edges.len() > MAX_FAN_TRIANGLES {
+            return None;
+        }
         // Connected parts by union–find over the edges' vertices.
         let mut parent: std::collections::BTreeMap<u32, u32> = edges
             .iter()
@@ -96,7 +105,7 @@ impl BoundaryFan {
                 }
             })
             .collect();
-        Self { triangles }
+        Some(Self { triangles })
     }
 
     /// Has the surface no boundary (its winding number a whole number off it)?
@@ -175,7 +184,7 @@ mod tests {
     #[test]
     fn the_surface_minus_its_fan_winds_a_whole_number_of_times_and_the_bound_holds() {
         let mesh = open_box();
-        let fan = BoundaryFan::new(&mesh);
+        let fan = BoundaryFan::new(&mesh).unwrap();
         assert_eq!(fan.len(), 4);
         let exact = TriangleBvh::new(&mesh);
         let mut fractions = 0;
@@ -205,7 +214,7 @@ mod tests {
     #[test]
     fn crossings_of_surface_and_fan_give_the_whole_part_along_a_line() {
         let mesh = open_box();
-        let fan = BoundaryFan::new(&mesh);
+        let fan = BoundaryFan::new(&mesh).unwrap();
         let exact = TriangleBvh::new(&mesh);
         let (x, y) = (0.0031, -0.0047);
         let mut crossings = Vec::new();
@@ -224,11 +233,29 @@ mod tests {
         assert_eq!(whole_at(0.03), 0);
         assert!(fan.winding_bound(x, y).is_infinite());
         assert!(fan.winding_bound(0.5, 0.0) < 1e-3);
-        assert!(
-            BoundaryFan::new(&crate::shapes::cuboid(crate::math::Vec3::new(
-                0.04, 0.04, 0.04
-            )))
-            .is_empty()
-        );
+        let closed = crate::shapes::cuboid(crate::math::Vec3::new(0.04, 0.04, 0.04));
+        assert!(BoundaryFan::new(&closed).unwrap().is_empty());
+    }
+
+    #[test]
+    fn a_triangle_soup_gets_no_fan() {
+        // 100 separate triangles: 300 boundary edges, more than a fan is worth.
+        let mut mesh = TriangleMesh {
+            vertices: Vec::new(),
+            triangles: Vec::new(),
+        };
+        for i in 0..100u32 {
+            let x = f64::from(i) * 0.001;
+            mesh.vertices.extend([
+                Point3::new(x, 0.0, 0.0),
+                Point3::new(x, 0.01, 0.0),
+                Point3::new(x, 0.0, 0.01),
+            ]);
+            mesh.triangles.push([3 * i, 3 * i + 1, 3 * i + 2]);
+        }
+        assert_eq!(mesh.unbalanced_edges().len(), 300);
+        assert!(BoundaryFan::new(&mesh).is_none());
+        mesh.triangles.truncate(80);
+        assert_eq!(BoundaryFan::new(&mesh).map(|f| f.len()), Some(240));
     }
 }

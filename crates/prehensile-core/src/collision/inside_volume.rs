@@ -133,19 +133,20 @@ pub struct InsideVolume {
     /// How many lines were integrated.
     pub lines: usize,
     /// How many of them needed winding-tree queries: their crossings did not add up (a line
-    /// through an edge), or the mesh's boundary fan was not given.
+    /// through an edge), or there was no boundary fan.
     pub lines_from_tree: usize,
 }
 
 /// Volume (m³) and centroid of the points of `exact`'s bounding box where the generalized
 /// winding number exceeds ½ in magnitude (as [`TriangleBvh::inside`] decides, but summed exactly
 /// on the lines the fan splits), integrated on `cells` lines along the longer horizontal side of
-/// the box. `fan` is the mesh's [`BoundaryFan`]; where it is empty, every line's crossings are
-/// counted.
+/// the box. `fan` is the mesh's [`BoundaryFan`]: where it is empty, every line's crossings are
+/// counted alone; without one, every line is sampled with winding-tree queries (the
+/// integration the fan replaced).
 pub fn inside_volume_and_centroid(
     exact: &TriangleBvh,
     cells: usize,
-    fan: &BoundaryFan,
+    fan: Option<&BoundaryFan>,
 ) -> InsideVolume {
     let (lo, hi) = exact.bounds();
     let longer = (hi.x - lo.x).max(hi.y - lo.y);
@@ -167,12 +168,15 @@ pub fn inside_volume_and_centroid(
                 };
                 both.clear();
                 both.extend_from_slice(surface);
-                fan.vertical_crossings(x, y, both);
+                if let Some(fan) = fan {
+                    fan.vertical_crossings(x, y, both);
+                }
                 both.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
                 // S − F is closed and lies within the box, so w_S − w_F is the same whole number
                 // all over the plane below the box: 0, as at infinity. It changes by each
                 // crossing's count and must come back to 0 above the box.
-                let counted = both.iter().map(|c| c.1).sum::<i32>() == 0;
+                let counted = fan.is_some() && both.iter().map(|c| c.1).sum::<i32>() == 0;
+                let fan = fan.filter(|_| counted);
                 // Each piece between crossings of the surface or the fan, with the whole number
                 // w_S − w_F on it; the floor and ceiling bound the first and the last.
                 let pieces = || {
@@ -186,7 +190,9 @@ pub fn inside_volume_and_centroid(
                             piece
                         })
                 };
-                if counted && (fan.is_empty() || fan.winding_bound(x, y) <= FAR_FROM_FAN) {
+                let near_fan =
+                    fan.filter(|f| !f.is_empty() && f.winding_bound(x, y) > FAR_FROM_FAN);
+                if counted && near_fan.is_none() {
                     // |w_F| is small along the whole line: inside wherever the whole part is
                     // not 0.
                     for (z0, z1, whole) in pieces() {
@@ -194,7 +200,7 @@ pub fn inside_volume_and_centroid(
                             add(z0, z1);
                         }
                     }
-                } else if counted {
+                } else if let Some(fan) = near_fan {
                     for (z0, z1, whole) in pieces() {
                         let beyond_half = |z: f64| {
                             let w = f64::from(whole) + fan.winding_number(&Point3::new(x, y, z));

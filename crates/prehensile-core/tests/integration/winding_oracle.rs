@@ -205,7 +205,7 @@ fn a_closed_box_with_a_face_wound_the_wrong_way_is_reoriented_exactly() {
 }
 
 #[test]
-fn counting_crossings_of_the_surface_and_its_boundary_fan_gives_the_inside_tests_volume() {
+fn counting_crossings_of_the_surface_and_its_boundary_fan_gives_the_winding_trees_volume() {
     let meshes = [
         ("open_cup", mesh("open_cup")),
         ("saddle_rimmed_cup", saddle_rimmed_cup()),
@@ -222,14 +222,29 @@ fn counting_crossings_of_the_surface_and_its_boundary_fan_gives_the_inside_tests
     for (name, mesh) in meshes {
         let (mesh, _) = mesh.without_degenerate_triangles();
         let exact = TriangleBvh::with_winding_numbers(&mesh);
-        let fan = BoundaryFan::new(&mesh);
+        let fan = BoundaryFan::new(&mesh).unwrap();
         // The can's 92 boundary edges are seams, pairs of edges 2 nm apart: they cancel.
         assert_eq!(fan.is_empty(), name == "can_with_holes", "{name}");
-        let counted = inside_volume_and_centroid(&exact, 64, &fan);
+        let counted = inside_volume_and_centroid(&exact, 64, Some(&fan));
         // The fan's lines are counted; only a line through an edge may need the tree.
         assert!(
             counted.lines_from_tree * 100 <= counted.lines,
             "{name}: {counted:?}"
+        );
+        // Without the fan, every line from winding-tree queries.
+        let sampled = inside_volume_and_centroid(&exact, 64, None);
+        assert_eq!(sampled.lines_from_tree, sampled.lines);
+        assert!(
+            (counted.volume - sampled.volume).abs() < 1e-3 * sampled.volume,
+            "{name}: {} counted, {} from the tree",
+            counted.volume,
+            sampled.volume
+        );
+        assert!(
+            (counted.centroid - sampled.centroid).norm() < 1e-4,
+            "{name}: centre {} counted, {} from the tree",
+            counted.centroid,
+            sampled.centroid
         );
         // Independently: `inside` at the centres of a 48³ grid of cells over the box.
         let (lo, hi) = exact.bounds();
