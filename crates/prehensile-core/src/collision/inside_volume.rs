@@ -123,6 +123,30 @@ pub fn overlaps_itself(exact: &TriangleBvh, cells: usize) -> bool {
         .any(|overlapping| overlapping)
 }
 
+/// Pieces between crossings that the winding tree may sample, over all lines: 64 × 64 lines of
+/// four pieces, an open scan's. A triangle soup crossed 50 times per line would otherwise take
+/// minutes.
+const TREE_PIECE_BUDGET: usize = 64 * 64 * 4;
+/// Fewest lines along the longer side, however many pieces.
+const MIN_CELLS: usize = 16;
+
+/// At most `cells` lines along the longer side, fewer when the mesh is crossed so often that
+/// sampling every piece with winding-tree queries would exceed [`TREE_PIECE_BUDGET`] (estimated
+/// on 16 × 16 lines), but at least [`MIN_CELLS`].
+fn cells_within_piece_budget(exact: &TriangleBvh, cells: usize) -> usize {
+    let probe = LineGrid::new(exact, MIN_CELLS);
+    let mut crossings = Vec::new();
+    let pieces: usize = (0..probe.len())
+        .map(|k| {
+            probe.crossings(exact, k, &mut crossings);
+            crossings.len() + 1
+        })
+        .sum();
+    let per_line = pieces as f64 / probe.len().max(1) as f64;
+    let affordable = (TREE_PIECE_BUDGET as f64 / per_line).sqrt() as usize;
+    affordable.clamp(MIN_CELLS.min(cells), cells)
+}
+
 /// What [`inside_volume_and_centroid`] integrated.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct InsideVolume {
@@ -150,6 +174,11 @@ pub fn inside_volume_and_centroid(
 ) -> InsideVolume {
     let (lo, hi) = exact.bounds();
     let longer = (hi.x - lo.x).max(hi.y - lo.y);
+    let cells = if fan.is_some() {
+        cells
+    } else {
+        cells_within_piece_budget(exact, cells)
+    };
     // Samples along a piece between crossings at about the line spacing.
     let step = longer / cells.max(1) as f64;
     let lines = LineGrid::new(exact, cells);
@@ -249,8 +278,8 @@ pub fn inside_volume_and_centroid(
 }
 
 /// Calls `add(z0, z1)` for the parts of the piece `start..end` of a line where `beyond_half`
-/// (|w| − ½, smooth along the piece) is positive: sampled just inside both ends and at up to
-/// [`SAMPLES_PER_PIECE`] points about `step` apart between them, each change between
+/// (|w| − ½, smooth along the piece) is positive: sampled at up to [`SAMPLES_PER_PIECE`] points
+/// about `step` apart and, when longer than a step, just inside both ends; each change between
 /// neighbouring samples located by [`inside_end`]. The ends matter: where a piece ends at the
 /// boundary fan, the inside usually ends just before it.
 fn inside_parts_of_piece(
@@ -268,10 +297,13 @@ fn inside_parts_of_piece(
         .clamp(1.0, SAMPLES_PER_PIECE as f64) as usize;
     let piece = (end - start) / inner as f64;
     let inset = 1e-3 * piece;
+    // A piece shorter than a step (a soup's) is sampled once, at its middle.
+    let ends = if inner > 1 { 2 } else { 0 };
+    let count = inner + ends;
     let mut samples = [(0.0, 0.0); SAMPLES_PER_PIECE + 2];
-    let count = inner + 2;
     for (k, sample) in samples.iter_mut().enumerate().take(count) {
         let z = match k {
+            _ if ends == 0 => start + 0.5 * piece,
             0 => start + inset,
             k if k == count - 1 => end - inset,
             k => start + (k as f64 - 0.5) * piece,
