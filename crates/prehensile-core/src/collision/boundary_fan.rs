@@ -163,21 +163,13 @@ mod tests {
     use super::*;
     use crate::collision::TriangleBvh;
 
-    /// A unit-ish open box: a 4 cm cube without its top face, so its rim is a square.
+    /// A 4 cm cube without its top face (two triangles), so its rim is a square.
     fn open_box() -> TriangleMesh {
         let mut mesh = crate::shapes::cuboid(crate::math::Vec3::new(0.04, 0.04, 0.04));
-        let top = mesh
-            .triangles
-            .iter()
-            .position(|t| t.iter().all(|&v| mesh.vertices[v as usize].z > 0.019))
-            .unwrap();
-        mesh.triangles.remove(top);
-        let top = mesh
-            .triangles
-            .iter()
-            .position(|t| t.iter().all(|&v| mesh.vertices[v as usize].z > 0.019))
-            .unwrap();
-        mesh.triangles.remove(top);
+        let vertices = mesh.vertices.clone();
+        mesh.triangles
+            .retain(|t| !t.iter().all(|&v| vertices[v as usize].z > 0.019));
+        assert_eq!(mesh.triangles.len(), 10);
         mesh
     }
 
