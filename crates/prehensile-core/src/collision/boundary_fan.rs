@@ -53,6 +53,10 @@ impl BoundaryFan {
     /// has more than [`MAX_FAN_TRIANGLES`] edges (a triangle soup): the fan would cost more
     /// than the winding tree.
     pub fn new(mesh: &TriangleMesh) -> Option<Self> {
+        // Welding copies the mesh: not for one without a boundary (overlapping closed parts).
+        if mesh.unbalanced_edges().is_empty() {
+            return Some(Self::default());
+        }
         let (lo, hi) = mesh.bounds();
         let (mesh, _) = mesh.weld_within(SEAM_WIDTH * (hi - lo).max());
         let mesh = &mesh;
