@@ -5,7 +5,7 @@ sphere's grasp, the paper's Fig. 6 set-up) and each object alone (the controller
 grasp). Prints one line per hand, `object:H/slip_mm` (H held, - not), and the total held.
 
 Run from the repository root after `cargo build --release -p prehensile-cli`:
-    python3 tools/quality/simulate_survey.py [--cli target/release/prehensile]
+    python3 tools/quality/simulate_survey.py [--cli target/release/prehensile] [--candidates N]
 """
 import argparse
 import json
@@ -18,11 +18,11 @@ HANDS = ["human", "human-left", "robot3", "robot3_ball", "cartoon4",
 RUNS = ["sphere,box,cylinder", "sphere", "box", "cylinder"]
 
 
-def run(cli, hand, objects):
+def run(cli, hand, objects, extra):
     if hand == "robot3_ball":
         hand = "assets/hands/robot3_ball.toml"
     with tempfile.NamedTemporaryFile(suffix=".json") as f:
-        p = subprocess.run([cli, "simulate", "--hand", hand, "--object", objects, "--out", f.name],
+        p = subprocess.run([cli, "simulate", "--hand", hand, "--object", objects, "--out", f.name] + extra,
                            capture_output=True, text=True)
         if p.returncode != 0:
             return [("error: " + p.stderr.strip().splitlines()[-1], False, None)]
@@ -33,12 +33,15 @@ def run(cli, hand, objects):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--cli", default="target/release/prehensile")
+    parser.add_argument("--candidates", type=int,
+                        help="grasps per object checked before each run (default: the CLI's)")
     args = parser.parse_args()
+    extra = [] if args.candidates is None else ["--candidates", str(args.candidates)]
     held = total = 0
     for hand in HANDS:
         cells = []
         for objects in RUNS:
-            cases = run(args.cli, hand, objects)
+            cases = run(args.cli, hand, objects, extra)
             held += sum(h for _, h, _ in cases)
             total += len(cases)
             cells.append(" ".join(f"{label}:{'H' if h else '-'}/{1000 * slip:.1f}"

@@ -144,6 +144,14 @@ pub struct SimulateArgs {
     /// Simulated seconds per case (default: the scenario's own).
     #[arg(long)]
     pub seconds: Option<f64>,
+    /// Grasps per object the grasp scenarios try, searched from the default shoulder and from it
+    /// turned by +30°, −30°, +60°, … about the vertical: each is checked by holding the object
+    /// against gravity for 1 s under the scenario's controller, and the first that holds is run
+    /// (each case reports `hold_check_shoulder_turn_deg`, `hold_check_tried`,
+    /// `hold_check_held`); 1 runs the default shoulder's grasp unchecked.
+    #[arg(long, default_value_t = prehensile_sim::scenarios::CANDIDATES,
+        value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=20))]
+    pub candidates: usize,
     /// Solver substeps per step (default: one per millisecond of step and at least 1, so 1 at
     /// 0.2 ms and at 1 ms).
     #[arg(long)]

@@ -756,10 +756,11 @@ impl Planner {
 
 /// Runs one of the paper's scenarios (`drop`, `grasp`, `grip-sweep`, `handshake`, `open-close`,
 /// `shake`) in the rapier world, as `prehensile simulate` does (same defaults: the human hand;
-/// sphere, box and cylinder); returns its report as a dict.
+/// sphere, box and cylinder; `candidates` grasps per object checked); returns its report as a
+/// dict.
 #[pyfunction]
 #[pyo3(signature = (scenario = "grasp", *, hand = None, objects = None, alpha = 0.5, dt = 0.001,
-    friction = 1.0, density = 20.0, seconds = None))]
+    friction = 1.0, density = 20.0, seconds = None, candidates = 3))]
 #[allow(clippy::too_many_arguments)]
 fn simulate<'py>(
     py: Python<'py>,
@@ -771,8 +772,14 @@ fn simulate<'py>(
     friction: f64,
     density: f64,
     seconds: Option<f64>,
+    candidates: usize,
 ) -> PyResult<Bound<'py, PyAny>> {
     use prehensile_sim::scenarios::{self, Options, Scenario};
+    if !(1..=20).contains(&candidates) {
+        return Err(error(format!(
+            "candidates={candidates}: give 1 to 20 grasps per object"
+        )));
+    }
     use prehensile_sim::Settings;
     let scenario = Scenario::from_name(scenario).ok_or_else(|| {
         error(format!(
@@ -806,6 +813,7 @@ fn simulate<'py>(
             ..Settings::for_step(dt)
         },
         seconds,
+        candidates,
     };
     let report = py
         .detach(|| scenarios::run(scenario, &options, &mut |_, _| {}).map(|(r, _)| r))

@@ -46,6 +46,7 @@ pub fn run(args: &SimulateArgs) -> Result<i32, CliError> {
             ..Settings::for_step(args.dt)
         },
         seconds: args.seconds,
+        candidates: args.candidates,
     };
     let bar = ProgressBar::new(1000);
     bar.set_style(

@@ -7,9 +7,10 @@ use prehensile_control::GraspController;
 use prehensile_core::math::Transform;
 use prehensile_core::{GraspMovement, HandModel, ObjectModel};
 
+use super::hold_test::hold_against;
 use super::{
     case, grasp_arm, recording, step_until, CaseReport, GraspTimes, Options, PlannedGrasp,
-    Recording, LIFT,
+    Recording, HOLD_MOVE, HOLD_TURN_DEGREES, LIFT,
 };
 use crate::simulation::{DistanceTo, HandSetup, Settings, Simulation};
 use crate::SimError;
@@ -111,18 +112,135 @@ pub(crate) fn grasp_case(
     Ok((report, rec))
 }
 
-/// The example's controller (fitted to the first object's grasp) with α.
-pub(crate) fn example_controller(
-    options: &Options,
-) -> Result<(GraspController, PlannedGrasp), SimError> {
+/// The example: the first object's grasp and the controller fitted to it, with α, and what
+/// the hold check found.
+pub(crate) struct Example {
+    /// The controller every object is grasped with.
+    pub controller: GraspController,
+    /// The first object's grasp.
+    pub grasp: PlannedGrasp,
+    /// The hold check of that grasp.
+    pub check: HoldCheck,
+}
+
+/// The example of the first object ([`checked_grasp`] over its power grasps).
+pub(crate) fn example_controller(options: &Options) -> Result<Example, SimError> {
     let first = options
         .objects
         .first()
         .ok_or_else(|| SimError::Settings("give at least one object".into()))?;
-    let grasp = options.plan_grasp(first)?;
-    let mut controller = grasp.controller(&options.hand, &options.settings.gravity)?;
-    controller.alpha = options.alpha;
-    Ok((controller, grasp))
+    let movement = super::grasp_movement(&options.hand)?;
+    let fitted = |grasp: &PlannedGrasp| {
+        let mut controller = grasp.controller(&options.hand, &options.settings.gravity)?;
+        controller.alpha = options.alpha;
+        Ok(controller)
+    };
+    let (grasp, controller, (), check) = checked_grasp(
+        options,
+        first,
+        |turn| Ok((options.plan_grasp_along(first, movement, turn)?, ())),
+        fitted,
+    )?;
+    Ok(Example {
+        controller,
+        grasp,
+        check,
+    })
+}
+
+/// What the hold check of an object's grasp found ([`super::CANDIDATES`]).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct HoldCheck {
+    /// Which candidate was taken (0: the default shoulder's; [`super::shoulder_turn_degrees`]).
+    candidate: usize,
+    /// How many grasps were checked (0: none, [`Options::candidates`] was 1).
+    tried: usize,
+    /// Whether the grasp taken passed.
+    held: bool,
+}
+
+impl HoldCheck {
+    /// Adds `hold_check_shoulder_turn_deg` (the candidate taken), `hold_check_tried` and, when
+    /// a grasp was checked, `hold_check_held` to a case's metrics.
+    pub(crate) fn add_to(&self, report: &mut CaseReport) {
+        let metrics = &mut report.metrics;
+        let turn = super::shoulder_turn_degrees(self.candidate);
+        metrics.insert("hold_check_shoulder_turn_deg".into(), turn);
+        metrics.insert("hold_check_tried".into(), self.tried as f64);
+        if self.tried > 0 {
+            metrics.insert("hold_check_held".into(), f64::from(u8::from(self.held)));
+        }
+    }
+}
+
+/// The grasp of `object` the scenario uses: of the grasps `search` finds from the shoulders of
+/// [`Options::candidates`] (`search` is given each one's [`super::shoulder_turn_degrees`] in
+/// radians), each driven by the controller `controller_of` gives it, the first that holds the
+/// object against the scenario's gravity ([`hold_against`]); when none does, the one that came
+/// nearest (the smallest share of the move or turn allowed). A shoulder from which no valid
+/// grasp is found is skipped. `search` may return something to carry along.
+///
+/// Why: neither the search's quality nor ε predicts which of several valid grasps the
+/// simulation holds (docs/QUALITY.md, session 17), and the controller that drives an object
+/// after the first was fitted to another object's grasp; the check asks the simulation itself.
+fn checked_grasp<T>(
+    options: &Options,
+    object: &ObjectModel,
+    mut search: impl FnMut(f64) -> Result<(PlannedGrasp, T), SimError>,
+    controller_of: impl Fn(&PlannedGrasp) -> Result<GraspController, SimError>,
+) -> Result<(PlannedGrasp, GraspController, T, HoldCheck), SimError> {
+    let mut nearest: Option<(f64, PlannedGrasp, GraspController, T, usize)> = None;
+    let mut no_grasp = None;
+    let mut tried = 0;
+    for candidate in 0..options.candidates.max(1) {
+        let (grasp, carried) = match search(super::shoulder_turn_degrees(candidate).to_radians()) {
+            Ok(found) => found,
+            Err(e @ SimError::NoGrasp(_)) => {
+                no_grasp.get_or_insert(e);
+                continue;
+            }
+            Err(e) => return Err(e),
+        };
+        let controller = controller_of(&grasp)?;
+        if options.candidates <= 1 {
+            let check = HoldCheck {
+                candidate,
+                tried: 0,
+                held: false,
+            };
+            return Ok((grasp, controller, carried, check));
+        }
+        tried += 1;
+        let (outcome, _) = hold_against(
+            &options.hand,
+            object,
+            &grasp,
+            controller.clone(),
+            options.settings,
+            "gravity",
+        )?;
+        if outcome.held {
+            let check = HoldCheck {
+                candidate,
+                tried,
+                held: true,
+            };
+            return Ok((grasp, controller, carried, check));
+        }
+        let miss = (outcome.moved_m / HOLD_MOVE).max(outcome.turned_degrees / HOLD_TURN_DEGREES);
+        if nearest.as_ref().is_none_or(|n| miss < n.0) {
+            nearest = Some((miss, grasp, controller, carried, candidate));
+        }
+    }
+    let (_, grasp, controller, carried, candidate) = nearest.ok_or_else(|| {
+        no_grasp.unwrap_or_else(|| SimError::NoGrasp(format!("no grasp of '{}'", object.name())))
+    })?;
+    let check = HoldCheck {
+        candidate,
+        tried,
+        held: false,
+    };
+    Ok((grasp, controller, carried, check))
 }
 
 /// The closing the controller makes: from the example's open pose to its grip target
@@ -151,27 +269,37 @@ pub(crate) fn run(
     progress: &mut dyn FnMut(&str, f64),
     add: &mut dyn FnMut((CaseReport, Recording)),
 ) -> Result<(), SimError> {
-    let (controller, first_grasp) = example_controller(options)?;
+    let example = example_controller(options)?;
     let seconds = options
         .seconds
         .unwrap_or(super::Scenario::Grasp.default_seconds());
-    let closing = example_closing(options, &controller, &first_grasp)?;
+    let closing = example_closing(options, &example.controller, &example.grasp)?;
     for (k, object) in options.objects.iter().enumerate() {
         // Each object after the first is searched along the controller's closing; when that
         // finds no valid grasp, along the hand's own movement.
-        let (grasp, along_example) = if k == 0 {
-            (first_grasp.clone(), true)
+        let (grasp, along_example, check) = if k == 0 {
+            (example.grasp.clone(), true, example.check)
         } else {
-            match options.plan_grasp_along(object, &closing) {
-                Err(SimError::NoGrasp(_)) => (options.plan_grasp(object)?, false),
-                found => (found?, true),
-            }
+            let search = |turn| match options.plan_grasp_along(object, &closing, turn) {
+                Err(SimError::NoGrasp(_)) => Ok((
+                    options.plan_grasp_along(
+                        object,
+                        super::grasp_movement(&options.hand)?,
+                        turn,
+                    )?,
+                    false,
+                )),
+                found => Ok((found?, true)),
+            };
+            let (grasp, _, along_example, check) =
+                checked_grasp(options, object, search, |_| Ok(example.controller.clone()))?;
+            (grasp, along_example, check)
         };
         let (mut report, recording) = grasp_case(
             &options.hand,
             object,
             &grasp,
-            &controller,
+            &example.controller,
             options.settings,
             (GraspTimes::default(), seconds),
             Vec::new(),
@@ -182,6 +310,7 @@ pub(crate) fn run(
             "searched_along_example_closing".into(),
             f64::from(u8::from(along_example)),
         );
+        check.add_to(&mut report);
         add((report, recording));
     }
     Ok(())

@@ -44,7 +44,7 @@ pub fn plan_grasp_with(
     object: &ObjectModel,
     params: SearchParams,
 ) -> Result<PlannedGrasp, SimError> {
-    plan_grasp_along(hand, object, grasp_movement(hand)?, params)
+    plan_grasp_along(hand, object, grasp_movement(hand)?, 0.0, params)
 }
 
 /// The movement the grasp scenarios search with: the hand's `power`, else its first.
@@ -54,15 +54,18 @@ pub fn grasp_movement(hand: &HandModel) -> Result<&GraspMovement, SimError> {
         .ok_or_else(|| SimError::Hand(format!("hand '{}' has no movement", hand.name())))
 }
 
-/// [`plan_grasp_with`] along a given movement.
+/// [`plan_grasp_with`] along a given movement, from the default shoulder turned by
+/// `shoulder_turn` radians about the vertical through the centre of mass (0: not turned).
 pub fn plan_grasp_along(
     hand: &HandModel,
     object: &ObjectModel,
     movement: &GraspMovement,
+    shoulder_turn: f64,
     params: SearchParams,
 ) -> Result<PlannedGrasp, SimError> {
     let hook = object.center_of_mass();
-    let shoulder = default_shoulder(hand, &hook, &Vec3::z());
+    let turn = nalgebra::Rotation3::from_axis_angle(&Vec3::z_axis(), shoulder_turn);
+    let shoulder = hook + turn * (default_shoulder(hand, &hook, &Vec3::z()) - hook);
     let friction = params.contact_model.friction;
     let mut planner = GraspPlanner::new(hand, object, movement, shoulder, params)?;
     planner.run_to_end();

@@ -14,7 +14,8 @@ pub(crate) fn run(
     progress: &mut dyn FnMut(&str, f64),
     add: &mut dyn FnMut((CaseReport, Recording)),
 ) -> Result<(), SimError> {
-    let (mut controller, grasp) = example_controller(options)?;
+    let example = example_controller(options)?;
+    let (mut controller, grasp) = (example.controller, example.grasp);
     let seconds = options
         .seconds
         .unwrap_or(Scenario::GripSweep.default_seconds());
@@ -32,6 +33,7 @@ pub(crate) fn run(
             progress,
         )?;
         report.metrics.insert("alpha".into(), alpha);
+        example.check.add_to(&mut report);
         add((report, rec));
     }
     Ok(())

@@ -8,6 +8,7 @@
 //! only gravity (and its compensation in the hand) differs, and it acts on the object only after
 //! let-go, since the object is fixed until then.
 
+use prehensile_control::GraspController;
 use prehensile_core::math::Vec3;
 use prehensile_core::stability::LOAD_DIRECTIONS;
 use prehensile_core::{HandModel, ObjectModel};
@@ -87,47 +88,12 @@ pub fn hold_test(
         let gravity = axis * g;
         let mut controller = grasp.controller(hand, &gravity)?;
         controller.alpha = alpha;
-        let (mut sim, times) = closing_on_fixed_object(
-            hand,
-            object,
-            grasp,
-            controller,
-            Settings {
-                gravity,
-                ..settings
-            },
-        )?;
-        report.object_mass_kg = sim.object().map_or(0.0, |o| o.mass);
-        let in_hand = |sim: &Simulation| {
-            let o = sim.object_pose().expect("the test has an object");
-            sim.root(0).inverse() * o
+        let settings = Settings {
+            gravity,
+            ..settings
         };
-        let mut outcome = HoldDirection {
-            direction,
-            held: false,
-            moved_m: f64::INFINITY,
-            turned_degrees: 180.0,
-            diverged: None,
-        };
-        let mut start = None;
-        let end = times.let_go + HOLD_SECONDS;
-        while sim.time() < end {
-            if start.is_none() && sim.time() >= times.let_go {
-                sim.let_go_object();
-                start = Some(in_hand(&sim));
-            }
-            if let Err(e) = sim.step() {
-                outcome.diverged = Some(e.to_string());
-                break;
-            }
-        }
-        if let (Some(a), None) = (start, &outcome.diverged) {
-            let b = in_hand(&sim);
-            outcome.moved_m = (b.translation.vector - a.translation.vector).norm();
-            outcome.turned_degrees = b.rotation.angle_to(&a.rotation).to_degrees();
-            outcome.held =
-                outcome.moved_m < HOLD_MOVE && outcome.turned_degrees < HOLD_TURN_DEGREES;
-        }
+        let (outcome, mass) = hold_against(hand, object, grasp, controller, settings, direction)?;
+        report.object_mass_kg = mass;
         report.held += outcome.held as usize;
         report.directions.push(outcome);
     }
@@ -143,4 +109,50 @@ pub fn hold_test_of_result(
 ) -> Result<HoldReport, SimError> {
     let grasp = PlannedGrasp::from_result(hand, result)?;
     hold_test(hand, object, &grasp, Settings::default(), HOLD_ALPHA)
+}
+
+/// One load direction of the hold test: `hand` under `controller` closes on `object` along
+/// `grasp`'s arm path, the object is let go into `settings`' gravity and watched for
+/// [`HOLD_SECONDS`] with the arm still. Returns the outcome, labelled `direction`, and the
+/// object's mass.
+pub(crate) fn hold_against(
+    hand: &HandModel,
+    object: &ObjectModel,
+    grasp: &PlannedGrasp,
+    controller: GraspController,
+    settings: Settings,
+    direction: &'static str,
+) -> Result<(HoldDirection, f64), SimError> {
+    let (mut sim, times) = closing_on_fixed_object(hand, object, grasp, controller, settings)?;
+    let mass = sim.object().map_or(0.0, |o| o.mass);
+    let in_hand = |sim: &Simulation| {
+        let o = sim.object_pose().expect("the test has an object");
+        sim.root(0).inverse() * o
+    };
+    let mut outcome = HoldDirection {
+        direction,
+        held: false,
+        moved_m: f64::INFINITY,
+        turned_degrees: 180.0,
+        diverged: None,
+    };
+    let mut start = None;
+    let end = times.let_go + HOLD_SECONDS;
+    while sim.time() < end {
+        if start.is_none() && sim.time() >= times.let_go {
+            sim.let_go_object();
+            start = Some(in_hand(&sim));
+        }
+        if let Err(e) = sim.step() {
+            outcome.diverged = Some(e.to_string());
+            break;
+        }
+    }
+    if let (Some(a), None) = (start, &outcome.diverged) {
+        let b = in_hand(&sim);
+        outcome.moved_m = (b.translation.vector - a.translation.vector).norm();
+        outcome.turned_degrees = b.rotation.angle_to(&a.rotation).to_degrees();
+        outcome.held = outcome.moved_m < HOLD_MOVE && outcome.turned_degrees < HOLD_TURN_DEGREES;
+    }
+    Ok((outcome, mass))
 }

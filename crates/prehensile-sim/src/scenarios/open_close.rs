@@ -12,7 +12,8 @@ pub(crate) fn run(
     progress: &mut dyn FnMut(&str, f64),
     add: &mut dyn FnMut((CaseReport, Recording)),
 ) -> Result<(), SimError> {
-    let (controller, grasp) = example_controller(options)?;
+    let example = example_controller(options)?;
+    let (controller, grasp) = (example.controller, example.grasp);
     let seconds = options
         .seconds
         .unwrap_or(Scenario::OpenClose.default_seconds());
@@ -41,6 +42,7 @@ pub(crate) fn run(
         progress,
     )?;
     report.metrics.insert("switches".into(), 6.0);
+    example.check.add_to(&mut report);
     add((report, rec));
     Ok(())
 }

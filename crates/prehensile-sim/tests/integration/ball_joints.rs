@@ -307,6 +307,7 @@ fn a_hand_with_only_ball_joints_grasps_lifts_and_carries_the_box() {
         alpha: 0.5,
         settings: Settings::default(),
         seconds: None,
+        candidates: prehensile_sim::scenarios::CANDIDATES,
     };
     let (report, _) = prehensile_sim::scenarios::run(
         prehensile_sim::scenarios::Scenario::Grasp,
