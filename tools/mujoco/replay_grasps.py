@@ -30,6 +30,7 @@ Run from the repository root:
 It searches the grasps itself (power, precision and close movements; --movements).
 """
 import argparse
+import itertools
 import json
 import os
 import subprocess
@@ -282,6 +283,22 @@ def search(obj, movement, seed, out, extra):
     return p.returncode
 
 
+def turned_shoulder(obj, degrees, tmp):
+    """`prehensile grasp` options for the default shoulder of `obj` turned by `degrees` about the
+    vertical through its centre of mass (none for 0). The default shoulder and the centre of mass
+    are read off a search's result, which records both whether or not it found a grasp."""
+    if degrees == 0:
+        return []
+    out = os.path.join(tmp, "default_shoulder.json")
+    search(obj, "power", 1, out, ["--budget-ms", "1"])
+    result = json.load(open(out))
+    c, s = np.array(result["center_of_mass"]), np.array(result["shoulder"])
+    a = np.radians(degrees)
+    turn = np.array([[np.cos(a), -np.sin(a), 0], [np.sin(a), np.cos(a), 0], [0, 0, 1]])
+    x, y, z = c + turn @ (s - c)
+    return ["--shoulder", f"{x:.9g},{y:.9g},{z:.9g}"]
+
+
 def meshes(objects):
     """The objects replayed: name (as `prehensile grasp --object` takes it) -> mesh file, the
     built-in objects from the folder `objects` and the closed robosuite scans."""
@@ -301,6 +318,9 @@ def main():
                     help="the Shadow hand's MJCF (default), or a hand name or file without ball "
                          "joints, replayed in the model hand_mjcf.py builds")
     ap.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 3])
+    ap.add_argument("--shoulder-turns", type=float, nargs="+", default=[0.0],
+                    help="shoulders: the default one turned by these degrees about the vertical "
+                         "through the object's centre of mass (default: 0, the default shoulder)")
     ap.add_argument("--movements", nargs="+", default=["power", "precision", "close"])
     ap.add_argument("--cli", default=CLI,
                     help="the prehensile binary that searches (to compare builds side by side)")
@@ -327,31 +347,34 @@ def main():
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         for obj, mesh in meshes(args.objects).items():
-            for movement in args.movements:
-                for seed in args.seeds:
-                    out = os.path.join(tmp, "r.json")
-                    code = search(obj, movement, seed, out, args.grasp_args.split())
-                    if code != 0:
-                        rows.append((obj, movement, seed, "no valid grasp"))
-                        continue
-                    result = json.load(open(out))
-                    outcomes = replay(result, mesh)
-                    n = sum(o["held"] for o in outcomes)
-                    if args.keep:
-                        os.makedirs(args.keep, exist_ok=True)
-                        result["mujoco"] = outcomes
-                        name = f"{obj.split('/')[-1].split('.')[0]}_{movement}_{seed}.json"
-                        with open(os.path.join(args.keep, name), "w") as f:
-                            json.dump(result, f)
-                    total += 1
-                    held6 += n == 6
-                    held5 += n >= 5
-                    gravity += outcomes[5]["held"]
-                    rows.append((obj, movement, seed, f"held in {n} of 6 "
-                                 f"({' '.join(o['direction'] for o in outcomes if o['held'])}); "
-                                 f"epsilon {result['stability']['epsilon']:.3f}, "
-                                 f"{len(result['contacts'])} contacts, "
-                                 f"fingers {','.join(result['fingers_touching'])}"))
+            for movement, turn, seed in itertools.product(args.movements, args.shoulder_turns,
+                                                          args.seeds):
+                out = os.path.join(tmp, "r.json")
+                extra = args.grasp_args.split() + turned_shoulder(obj, turn, tmp)
+                code = search(obj, movement, seed, out, extra)
+                label = seed if turn == 0 else f"{seed}, shoulder turned {turn:+g} deg"
+                if code != 0:
+                    rows.append((obj, movement, label, "no valid grasp"))
+                    continue
+                result = json.load(open(out))
+                outcomes = replay(result, mesh)
+                n = sum(o["held"] for o in outcomes)
+                if args.keep:
+                    os.makedirs(args.keep, exist_ok=True)
+                    result["mujoco"] = outcomes
+                    turned = "" if turn == 0 else f"_turn{turn:+g}"
+                    name = f"{obj.split('/')[-1].split('.')[0]}_{movement}_{seed}{turned}.json"
+                    with open(os.path.join(args.keep, name), "w") as f:
+                        json.dump(result, f)
+                total += 1
+                held6 += n == 6
+                held5 += n >= 5
+                gravity += outcomes[5]["held"]
+                rows.append((obj, movement, label, f"held in {n} of 6 "
+                             f"({' '.join(o['direction'] for o in outcomes if o['held'])}); "
+                             f"epsilon {result['stability']['epsilon']:.3f}, "
+                             f"{len(result['contacts'])} contacts, "
+                             f"fingers {','.join(result['fingers_touching'])}"))
     for r in rows:
         print(f"{r[0].split('/')[-1]:<24} {r[1]:<10} seed {r[2]}: {r[3]}")
     print(f"{total} valid {description()['name']} grasps replayed in MuJoCo {mujoco.__version__}: "

@@ -132,7 +132,14 @@ def test_check_reports_like_the_cli():
 def test_simulate_holds_the_sphere():
     report = prehensile.simulate("grasp", objects=["sphere"])
     assert report["finite"]
-    assert report["cases"][0]["held"] is True
+    case = report["cases"][0]
+    assert case["held"] is True
+    # The grasp was held against gravity in the simulation before the run.
+    assert case["metrics"]["hold_check_held"] == 1.0
+    unchecked = prehensile.simulate("grasp", objects=["sphere"], candidates=1)
+    assert unchecked["cases"][0]["metrics"]["hold_check_tried"] == 0.0
+    with pytest.raises(prehensile.PrehensileError, match="candidates=0"):
+        prehensile.simulate("grasp", objects=["sphere"], candidates=0)
 
 
 def test_a_batch_dataset_loads_in_pandas_and_resumes(tmp_path):

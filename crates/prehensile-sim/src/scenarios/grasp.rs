@@ -124,7 +124,10 @@ pub(crate) struct Example {
 }
 
 /// The example of the first object ([`checked_grasp`] over its power grasps).
-pub(crate) fn example_controller(options: &Options) -> Result<Example, SimError> {
+pub(crate) fn example_controller(
+    options: &Options,
+    progress: &mut dyn FnMut(&str, f64),
+) -> Result<Example, SimError> {
     let first = options
         .objects
         .first()
@@ -140,6 +143,7 @@ pub(crate) fn example_controller(options: &Options) -> Result<Example, SimError>
         first,
         |turn| Ok((options.plan_grasp_along(first, movement, turn)?, ())),
         fitted,
+        progress,
     )?;
     Ok(Example {
         controller,
@@ -188,11 +192,17 @@ fn checked_grasp<T>(
     object: &ObjectModel,
     mut search: impl FnMut(f64) -> Result<(PlannedGrasp, T), SimError>,
     controller_of: impl Fn(&PlannedGrasp) -> Result<GraspController, SimError>,
+    progress: &mut dyn FnMut(&str, f64),
 ) -> Result<(PlannedGrasp, GraspController, T, HoldCheck), SimError> {
     let mut nearest: Option<(f64, PlannedGrasp, GraspController, T, usize)> = None;
     let mut no_grasp = None;
     let mut tried = 0;
-    for candidate in 0..options.candidates.max(1) {
+    let count = options.candidates.max(1);
+    for candidate in 0..count {
+        if count > 1 {
+            let label = format!("{}: grasp {} of {count}", object.name(), candidate + 1);
+            progress(&label, candidate as f64 / count as f64);
+        }
         let (grasp, carried) = match search(super::shoulder_turn_degrees(candidate).to_radians()) {
             Ok(found) => found,
             Err(e @ SimError::NoGrasp(_)) => {
@@ -269,7 +279,7 @@ pub(crate) fn run(
     progress: &mut dyn FnMut(&str, f64),
     add: &mut dyn FnMut((CaseReport, Recording)),
 ) -> Result<(), SimError> {
-    let example = example_controller(options)?;
+    let example = example_controller(options, progress)?;
     let seconds = options
         .seconds
         .unwrap_or(super::Scenario::Grasp.default_seconds());
@@ -291,8 +301,13 @@ pub(crate) fn run(
                 )),
                 found => Ok((found?, true)),
             };
-            let (grasp, _, along_example, check) =
-                checked_grasp(options, object, search, |_| Ok(example.controller.clone()))?;
+            let (grasp, _, along_example, check) = checked_grasp(
+                options,
+                object,
+                search,
+                |_| Ok(example.controller.clone()),
+                progress,
+            )?;
             (grasp, along_example, check)
         };
         let (mut report, recording) = grasp_case(

@@ -14,7 +14,7 @@ pub(crate) fn run(
     progress: &mut dyn FnMut(&str, f64),
     add: &mut dyn FnMut((CaseReport, Recording)),
 ) -> Result<(), SimError> {
-    let example = example_controller(options)?;
+    let example = example_controller(options, progress)?;
     let (mut controller, grasp) = (example.controller, example.grasp);
     let seconds = options
         .seconds
