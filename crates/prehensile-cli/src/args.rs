@@ -106,7 +106,7 @@ pub struct BatchArgs {
     /// world's friction; MuJoCo holds fewer grasps searched with the full friction (docs/QUALITY.md).
     #[arg(long, default_value_t = 0.5)]
     pub friction: f64,
-    /// Which grasps are valid: holds or thesis.
+    /// Which grasps are valid: holds, strict or thesis.
     #[arg(long, default_value = "holds", value_parser = parse_validity)]
     pub validity: ValidityRule,
     /// Worker threads (default: one per core).
@@ -287,7 +287,8 @@ pub struct GraspArgs {
     #[arg(long, default_value_t = 0.5)]
     pub friction: f64,
     /// Which grasps are valid: `holds` (force closure; a precision grasp's thumb and index pads
-    /// opposed) or `thesis` (no penetration and enough fingers touching, §6.4.1).
+    /// opposed), `strict` (`holds`, and the contact normals never all in one open half-space,
+    /// whatever the friction) or `thesis` (no penetration and enough fingers touching, §6.4.1).
     #[arg(long, default_value = "holds", value_parser = parse_validity)]
     pub validity: ValidityRule,
     /// Stop after this many milliseconds (default: run until converged).
@@ -354,7 +355,8 @@ pub fn parse_validity(s: &str) -> Result<ValidityRule, String> {
     match s {
         "holds" => Ok(ValidityRule::Holds),
         "thesis" => Ok(ValidityRule::Thesis),
-        other => Err(format!("'{other}': use holds or thesis")),
+        "strict" => Ok(ValidityRule::Strict),
+        other => Err(format!("'{other}': use holds, strict or thesis")),
     }
 }
 

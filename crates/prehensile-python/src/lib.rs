@@ -61,8 +61,9 @@ fn validity_rule(rule: &str) -> PyResult<ValidityRule> {
     match rule {
         "holds" => Ok(ValidityRule::Holds),
         "thesis" => Ok(ValidityRule::Thesis),
+        "strict" => Ok(ValidityRule::Strict),
         other => Err(error(format!(
-            "validity='{other}': use 'holds' or 'thesis'"
+            "validity='{other}': use 'holds', 'strict' or 'thesis'"
         ))),
     }
 }

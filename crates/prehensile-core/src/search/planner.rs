@@ -271,7 +271,7 @@ impl<'a> GraspPlanner<'a> {
         let mut weights = params
             .weights
             .unwrap_or_else(|| QualityWeights::for_movement(movement));
-        if params.validity == ValidityRule::Thesis {
+        if !params.validity.judges_contacts() {
             weights.stability = 0.0;
         }
         let center = object.center_of_mass();
@@ -512,7 +512,7 @@ impl<'a> GraspPlanner<'a> {
     /// ([`SearchParams::lazy_stability`])?
     fn defers_stability(&self) -> bool {
         self.params.lazy_stability
-            && self.ctx.validity == ValidityRule::Holds
+            && self.ctx.validity.judges_contacts()
             && self.ctx.quality_ignores_stability()
     }
 

@@ -61,6 +61,18 @@ pub enum ValidityRule {
     Holds,
     /// The thesis's rules only (§6.4.1): no penetration and enough fingers touching.
     Thesis,
+    /// [`ValidityRule::Holds`] with the one-sided test at 90° whatever the friction: no grasp
+    /// whose contact normals all lie in one open half-space. Issue 13's literal reading of "all
+    /// contact normals on one side"; it also refuses grasps whose friction cones overlap enough
+    /// to hold (docs/QUALITY.md measures what it costs).
+    Strict,
+}
+
+impl ValidityRule {
+    /// Does the rule judge a pose's contacts (force closure, sides, opposition)?
+    pub fn judges_contacts(self) -> bool {
+        self != ValidityRule::Thesis
+    }
 }
 
 /// Weights of the quality's terms: quality = −(g·gDist + f·fDist + t·tDist* + w·wDist) + s·m·L,
@@ -374,9 +386,7 @@ impl EvaluationContext<'_> {
     /// Is `eval` (from [`EvaluationContext::evaluate_pose`]) valid but for the stability of its
     /// contacts, which is not judged yet?
     pub fn stability_pending(&self, eval: &Evaluation) -> bool {
-        self.validity == ValidityRule::Holds
-            && eval.validity.is_ok()
-            && eval.closure_margin.is_none()
+        self.validity.judges_contacts() && eval.validity.is_ok() && eval.closure_margin.is_none()
     }
 
     /// Does a pose's quality leave out its stability (weight 0), so that a search may judge the
@@ -441,7 +451,10 @@ impl EvaluationContext<'_> {
             });
         }
         let cap = narrowest_normal_cap(ws.contacts.iter().map(|c| c.normal));
-        let needed = one_sided_cap(self.contact_model.friction);
+        let needed = match self.validity {
+            ValidityRule::Strict => std::f64::consts::FRAC_PI_2,
+            _ => one_sided_cap(self.contact_model.friction),
+        };
         if cap < needed {
             return Err(Invalid::OneSided {
                 cap_degrees: cap.to_degrees(),

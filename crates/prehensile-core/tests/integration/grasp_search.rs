@@ -15,7 +15,7 @@ use prehensile_core::search::initial_approximation::{
 use prehensile_core::search::translate_to_free::translate_to_free;
 use prehensile_core::search::{
     Evaluation, GraspPlanner, GraspResult, PlannerStatus, SearchError, SearchParams, SearchSink,
-    SearchStats, StopRule, TranslateMode, SAMPLES_PER_SLICE,
+    SearchStats, StopRule, TranslateMode, ValidityRule, SAMPLES_PER_SLICE,
 };
 use prehensile_core::shapes::{self, BUILTIN_OBJECTS};
 use prehensile_core::{HandModel, ObjectModel, Workspace};
@@ -830,5 +830,47 @@ fn lazy_stability_takes_the_same_path_with_fewer_tests() {
         3 * lazy_tests < eager_tests,
         "searches that found a grasp: lazy judging made {lazy_tests} stability tests, judging \
          every candidate {eager_tests}"
+    );
+}
+
+#[test]
+fn the_strict_rule_refuses_every_grasp_whose_normals_share_an_open_half_space() {
+    // Under the default rule the human hand's power grasp of the built-in sphere (a hand over
+    // the ball, its fingers down to the equator) is valid although its normals lie in one open
+    // half-space: friction 0.5 holds it. `--validity strict` refuses it; what it accepts (the
+    // torus here) has normals in no open half-space.
+    let hand = common::hand("human");
+    let strict = |object: &ObjectModel| {
+        let m = hand.movement("power").unwrap();
+        let shoulder = object.center_of_mass() + Vec3::from(SHOULDERS[0]);
+        let params = SearchParams {
+            validity: ValidityRule::Strict,
+            ..Default::default()
+        };
+        let mut planner = GraspPlanner::new(&hand, object, m, shoulder, params).unwrap();
+        planner.run_to_end();
+        GraspResult::from_planner(&planner, &mut Workspace::new(&hand))
+    };
+    let sphere = common::object("sphere");
+    let default = search(&hand, &sphere, "power", SHOULDERS[0], 1);
+    assert!(default.valid, "{:?}", default.invalid_reason);
+    let cap = sampled_normal_cap(&default);
+    assert!(cap < 89.0, "the default grasp's normals spread {cap:.1}°");
+    let refused = strict(&sphere);
+    assert!(!refused.valid);
+    assert!(
+        refused
+            .invalid_reason
+            .as_deref()
+            .is_some_and(|r| r.contains("90° needed")),
+        "{:?}",
+        refused.invalid_reason
+    );
+    let torus = strict(&common::object("torus"));
+    assert!(torus.valid, "{:?}", torus.invalid_reason);
+    let cap = sampled_normal_cap(&torus);
+    assert!(
+        cap >= 89.9,
+        "the strict grasp's normals lie within {cap:.1}°"
     );
 }

@@ -146,7 +146,7 @@ def main(argv=None):
     ap.add_argument("--scale", type=float, default=1.0)
     ap.add_argument("--up", default="z", choices=["x", "y", "z"])
     ap.add_argument("--friction", type=float, default=0.5)
-    ap.add_argument("--validity", default="holds", choices=["holds", "thesis"])
+    ap.add_argument("--validity", default="holds", choices=["holds", "strict", "thesis"])
     ap.add_argument("--address", default=None,
                     help="Ray cluster address (e.g. auto); default: start a local one")
     ap.add_argument("--num-cpus", type=int, default=None, help="CPUs of a local cluster")
