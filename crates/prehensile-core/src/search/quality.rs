@@ -199,7 +199,8 @@ pub enum Invalid {
     OneSided {
         /// Half-angle of the narrowest cone holding every contact normal, degrees.
         cap_degrees: f64,
-        /// The half-angle the friction asks for ([`one_sided_cap`]), degrees.
+        /// The half-angle the rule asks for at the search's friction, degrees: [`one_sided_cap`],
+        /// or 90° under [`ValidityRule::Strict`].
         needed_degrees: f64,
     },
     /// The thumb's and the index's pads do not push against each other.
