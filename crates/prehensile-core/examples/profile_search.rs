@@ -1,7 +1,9 @@
 //! Runs whole grasps for profiling (e.g. under `valgrind --tool=callgrind`): the human hand's
 //! power grasp, seeds 1–3, from the default shoulder, of the built-in object or mesh file named
 //! by the first argument (default sphere). The seeds share one object, so the first search fills
-//! the distance grid's nodes it needs and the later ones reuse them.
+//! the distance grid's nodes it needs and the later ones reuse them. A second argument runs the
+//! three seeds that many rounds (default 1), so that a profile of the later rounds sees the
+//! search on a warm grid, as a batch or a game that keeps its object does.
 use prehensile_core::math::Vec3;
 use prehensile_core::search::{default_shoulder, GraspPlanner, SearchParams};
 use prehensile_core::{shapes, ObjectModel};
@@ -15,7 +17,10 @@ fn main() {
     };
     let m = hand.movement("power").unwrap();
     let shoulder = default_shoulder(&hand, &object.center_of_mass(), &Vec3::z());
-    for seed in 1..=3 {
+    let rounds: usize = std::env::args()
+        .nth(2)
+        .map_or(1, |r| r.parse().expect("a number of rounds"));
+    for seed in (0..rounds).flat_map(|_| 1..=3) {
         let mut p = GraspPlanner::new(
             &hand,
             &object,

@@ -1,6 +1,6 @@
 //! Triangle meshes: welding by position, topology checks and mass properties.
 
-use std::collections::HashMap;
+use foldhash::{HashMap, HashMapExt};
 
 use crate::math::{Point3, Vec3};
 

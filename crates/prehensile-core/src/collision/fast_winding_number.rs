@@ -58,9 +58,10 @@ pub struct WindingNumberTree {
 }
 
 impl WindingNumberTree {
-    /// Expansions for the hierarchy `nodes` over `corners` in `order` (node 0 is the root; an
-    /// inner node's children are `first` and `first + 1`).
-    pub(super) fn new(nodes: Vec<TreeNode>, order: &[u32], corners: &[[Point3; 3]]) -> Self {
+    /// Expansions for the hierarchy `nodes` over `corners`, stored in leaf order (node 0 is the
+    /// root; a leaf holds `corners[first..first + count]`; an inner node's children are `first`
+    /// and `first + 1`).
+    pub(super) fn new(nodes: Vec<TreeNode>, corners: &[[Point3; 3]]) -> Self {
         let mut dipoles = vec![
             Dipole {
                 centre: Point3::origin(),
@@ -77,13 +78,8 @@ impl WindingNumberTree {
         let mut centre_sum = vec![Vec3::zeros(); nodes.len()];
         for i in (0..nodes.len()).rev() {
             let node = nodes[i];
-            let triangles = || {
-                order[node.first as usize..(node.first + node.count) as usize]
-                    .iter()
-                    .map(|&t| &corners[t as usize])
-            };
             if node.count > 0 {
-                for [a, b, c] in triangles() {
+                for [a, b, c] in &corners[node.first as usize..(node.first + node.count) as usize] {
                     let area_vector = (b - a).cross(&(c - a)) * 0.5;
                     let area = area_vector.norm();
                     let centroid = (a.coords + b.coords + c.coords) / 3.0;
@@ -110,7 +106,7 @@ impl WindingNumberTree {
                 Point3::from(centre_sum[i] / area_sum[i])
             } else {
                 // Only zero-area triangles below: any corner will do, the dipole is zero.
-                first_corner(&nodes, order, corners, i)
+                first_corner(&nodes, corners, i)
             };
             dipoles[i].second_order =
                 moment[i] - dipoles[i].area_normal * dipoles[i].centre.coords.transpose();
@@ -120,9 +116,9 @@ impl WindingNumberTree {
             let node = nodes[i];
             let centre = dipoles[i].centre;
             dipoles[i].radius = if node.count > 0 {
-                order[node.first as usize..(node.first + node.count) as usize]
+                corners[node.first as usize..(node.first + node.count) as usize]
                     .iter()
-                    .flat_map(|&t| corners[t as usize].iter())
+                    .flatten()
                     .map(|p| (p - centre).norm())
                     .fold(0.0, f64::max)
             } else {
@@ -135,8 +131,8 @@ impl WindingNumberTree {
         Self { nodes, dipoles }
     }
 
-    /// The winding number at `p` (`order` and `corners` as the tree was built from).
-    pub(super) fn winding_number(&self, order: &[u32], corners: &[[Point3; 3]], p: &Point3) -> f64 {
+    /// The winding number at `p` (`corners` as the tree was built from).
+    pub(super) fn winding_number(&self, corners: &[[Point3; 3]], p: &Point3) -> f64 {
         let mut solid_angle = 0.0;
         let mut stack = [0u32; STACK];
         let mut top = 1;
@@ -157,8 +153,8 @@ impl WindingNumberTree {
             }
             let node = self.nodes[i];
             if node.count > 0 {
-                for &t in &order[node.first as usize..(node.first + node.count) as usize] {
-                    solid_angle += triangle_solid_angle(&corners[t as usize], p);
+                for triangle in &corners[node.first as usize..(node.first + node.count) as usize] {
+                    solid_angle += triangle_solid_angle(triangle, p);
                 }
             } else {
                 stack[top] = node.first;
@@ -171,12 +167,12 @@ impl WindingNumberTree {
 }
 
 /// A corner of the first triangle under node `i`.
-fn first_corner(nodes: &[TreeNode], order: &[u32], corners: &[[Point3; 3]], i: usize) -> Point3 {
+fn first_corner(nodes: &[TreeNode], corners: &[[Point3; 3]], i: usize) -> Point3 {
     let mut node = nodes[i];
     while node.count == 0 {
         node = nodes[node.first as usize];
     }
-    corners[order[node.first as usize] as usize][0]
+    corners[node.first as usize][0]
 }
 
 /// Signed solid angle of triangle `abc` seen from `p` (Van Oosterom & Strackee 1983): positive
