@@ -10,8 +10,12 @@ from the object) and the sphere body it adds. Prehensile's side is
 `prehensile_sim::scenarios::held_still`, the scene of the criterion benchmark
 `simulation_step/shadow_sphere_dt_*`, driven by `crates/prehensile-sim/examples/step_timing.rs`.
 
+`--object mesh` gives MuJoCo the sphere as Prehensile has it, the built-in 960-triangle mesh
+(MuJoCo collides a mesh geom as its convex hull, as Prehensile's rapier world does), instead of
+MuJoCo's analytic sphere: the same scene geometry on both sides.
+
 Run from the repository root (after `pip install mujoco==4.0.0`):
-    python3 tools/benchmark/mujoco_side_by_side.py [--pairs N]
+    python3 tools/benchmark/mujoco_side_by_side.py [--pairs N] [--object primitive|mesh]
 The two engines take turns, N pairs of blocks per step length (default 30): STEPS steps of
 Prehensile, then the same of MuJoCo, each timed as the median of blocks of 100 steps. The machine's
 speed drifts by tens of percent within minutes (a shared 2-core machine), so each ratio comes
@@ -39,8 +43,19 @@ DENSITY = 20.0
 STEPS = {0.0002: 2000, 0.001: 1000}  # steps per block of each engine's turn
 
 
-def stripped_scene(directory: pathlib.Path) -> pathlib.Path:
-    """Copies of the MJCF files without meshes, plus a free sphere in the world."""
+def sphere_mesh(directory: pathlib.Path) -> pathlib.Path:
+    """The built-in sphere as Prehensile builds it, written as OBJ into `directory`."""
+    subprocess.run(
+        ["cargo", "run", "--release", "--quiet", "-p", "prehensile-formats", "--example",
+         "export_builtin_objects", "--", str(directory)],
+        cwd=ROOT, check=True, stdout=subprocess.DEVNULL,
+    )
+    return directory / "sphere.obj"
+
+
+def stripped_scene(directory: pathlib.Path, mesh: pathlib.Path | None) -> pathlib.Path:
+    """Copies of the MJCF files without the hand's meshes, plus a free sphere in the world: an
+    analytic sphere, or the mesh `mesh`."""
     for name in ["reach.xml", "shared.xml", "shared_asset.xml", "robot.xml"]:
         tree = ET.parse(HAND / name)
         for parent in tree.iter():
@@ -48,12 +63,18 @@ def stripped_scene(directory: pathlib.Path) -> pathlib.Path:
                 if child.tag == "mesh" or (child.tag == "geom" and "mesh" in child.attrib):
                     parent.remove(child)
         if name == "reach.xml":
-            world = tree.getroot().find("worldbody")
+            root = tree.getroot()
+            world = root.find("worldbody")
             body = ET.SubElement(world, "body", name="object", pos="0 0 0")
             ET.SubElement(body, "freejoint", name="object")
+            shape = {"type": "sphere", "size": str(SPHERE_RADIUS)}
+            if mesh is not None:
+                asset = ET.SubElement(root, "asset")
+                ET.SubElement(asset, "mesh", name="object_mesh", file=str(mesh.resolve()))
+                shape = {"type": "mesh", "mesh": "object_mesh"}
             ET.SubElement(
-                body, "geom", type="sphere", size=str(SPHERE_RADIUS), density=str(DENSITY),
-                friction="1 0.005 0.0001", condim="3",
+                body, "geom", **shape, density=str(DENSITY), friction="1 0.005 0.0001",
+                condim="3",
             )
         tree.write(directory / name)
     return directory / "reach.xml"
@@ -131,15 +152,21 @@ def quartiles(values):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--pairs", type=int, default=30, help="alternating blocks per step length")
-    pairs = parser.parse_args().pairs
+    parser.add_argument("--object", choices=["primitive", "mesh"], default="primitive",
+                        help="MuJoCo's sphere: its analytic sphere, or Prehensile's sphere mesh")
+    arguments = parser.parse_args()
+    pairs = arguments.pairs
     if pairs < 2:
         parser.error("--pairs must be at least 2")
     ours_engine = prehensile()
     with tempfile.TemporaryDirectory() as directory:
-        path = stripped_scene(pathlib.Path(directory))
+        directory = pathlib.Path(directory)
+        mesh = sphere_mesh(directory) if arguments.object == "mesh" else None
+        path = stripped_scene(directory, mesh)
         scenes = {dt: gripping(path, dt) for dt in STEPS}
     starts = {dt: sphere_position(*scenes[dt]) for dt in STEPS}
-    print(f"MuJoCo {mujoco.__version__}, Shadow hand gripping a {SPHERE_RADIUS * 100:g} cm sphere,"
+    print(f"MuJoCo {mujoco.__version__}, Shadow hand gripping a {SPHERE_RADIUS * 100:g} cm sphere"
+          f" ({'the 960-triangle mesh' if arguments.object == 'mesh' else 'analytic'} in MuJoCo),"
           f" {pairs} alternating pairs of blocks per step length")
     print("dt ms | MuJoCo µs/step  steps/s | Prehensile µs/step  steps/s |"
           " Prehensile/MuJoCo steps/s: median (quartiles)")
