@@ -249,7 +249,8 @@ impl TriangleBvh {
                 continue;
             }
             if node.count > 0 {
-                for triangle in &self.corners[node.first as usize..(node.first + node.count) as usize]
+                for triangle in
+                    &self.corners[node.first as usize..(node.first + node.count) as usize]
                 {
                     if let Some(crossing) = vertical_crossing(triangle, x, y) {
                         out.push(crossing);

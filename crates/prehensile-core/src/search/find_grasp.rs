@@ -105,20 +105,21 @@ pub fn find_grasp(
     let results = if request.params.threads > 1 && movements.len() > 1 {
         search_side_by_side(hand, object, request, &movements, sink)
     } else if let Some(budget) = request.budget {
-        movements
+        let planners = movements
             .iter()
             .map(|movement| {
                 sink.movement_started(movement.name());
                 let mut planner = planner(hand, object, movement, request)?;
                 planner.run_for_into(budget, sink);
-                Ok(result(hand, &planner))
+                Ok(planner)
             })
-            .collect()
+            .collect::<Result<Vec<_>, SearchError>>()?;
+        contenders(hand, &planners)
     } else {
-        search_in_turn(hand, object, request, &movements, sink)?
-            .into_iter()
-            .map(Ok)
-            .collect()
+        contenders(
+            hand,
+            &search_in_turn(hand, object, request, &movements, sink)?,
+        )
     };
     let mut best: Option<GraspResult> = None;
     for result in results {
@@ -183,13 +184,13 @@ fn out_of_patience(progress: &[Progress], me: usize) -> bool {
 
 /// The movements' searches a step each in turn, on this thread, to their stop rules or the
 /// patience rule.
-fn search_in_turn(
-    hand: &HandModel,
-    object: &ObjectModel,
+fn search_in_turn<'a>(
+    hand: &'a HandModel,
+    object: &'a ObjectModel,
     request: &GraspRequest,
-    movements: &[&GraspMovement],
+    movements: &[&'a GraspMovement],
     sink: &mut dyn SearchSink,
-) -> Result<Vec<GraspResult>, SearchError> {
+) -> Result<Vec<GraspPlanner<'a>>, SearchError> {
     let mut planners = movements
         .iter()
         .map(|movement| planner(hand, object, movement, request))
@@ -218,7 +219,23 @@ fn search_in_turn(
             }
         }
     }
-    Ok(planners.iter().map(|p| result(hand, p)).collect())
+    Ok(planners)
+}
+
+/// The results that can win among the searches of one request, each searched on this thread:
+/// those of the searches that found a valid grasp, or every result when none did. A result's
+/// contacts and 6-D wrench-space hull are the dearest part of it, and an invalid result never
+/// beats a valid one ([`better_grasp`]), so they are not computed for a search that lost.
+fn contenders(
+    hand: &HandModel,
+    planners: &[GraspPlanner],
+) -> Vec<Result<GraspResult, SearchError>> {
+    let any_valid = planners.iter().any(|p| p.best().is_some());
+    planners
+        .iter()
+        .filter(|p| !any_valid || p.best().is_some())
+        .map(|p| Ok(result(hand, p)))
+        .collect()
 }
 
 /// The progress of the searches running side by side, shared by their threads.
