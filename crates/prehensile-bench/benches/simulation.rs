@@ -77,8 +77,13 @@ fn solver_at_1ms(c: &mut Criterion) {
 /// object's rank-6 term, and 20 projected Gauss–Seidel sweeps with a friction pyramid
 /// ([`pgs`]). Once with a dense factorization, once by finger: under the held (kinematic) palm
 /// each finger is a tree of its own, so M is block diagonal and a contact's rows touch one
-/// finger's columns. Not counted: collision detection and assembling the contact Jacobians (J
-/// is fixed here), which an engine adds. A cost floor, not an engine: nothing is integrated.
+/// finger's columns. Not counted there: collision detection and assembling the contact Jacobians
+/// (J is fixed here), which an engine adds. A cost floor, not an engine: nothing is integrated.
+/// The collision detection it would add is measured beside it: every capsule of the hand at its
+/// grip against the sphere's collision shape as the rapier world has it (its convex hull, 482
+/// vertices), by parry's contact query with a 1 mm margin after a bounding-box test; against
+/// an exact sphere (what MuJoCo collides in the side-by-side scene); and the object's distance
+/// grid read along every capsule, what a narrow phase on the grid would read.
 fn reduced_coordinate_floor(c: &mut Criterion) {
     use nalgebra::{DMatrix, DVector};
     use prehensile_control::{crba, rnea, BaseMotion, DynamicsModel};
@@ -93,9 +98,8 @@ fn reduced_coordinate_floor(c: &mut Criterion) {
         validity: ValidityRule::Thesis,
         ..SearchParams::default()
     };
-    let grip = prehensile_sim::scenarios::plan_grasp_with(&hand, &sphere(), params)
-        .unwrap()
-        .closed;
+    let planned = prehensile_sim::scenarios::plan_grasp_with(&hand, &sphere(), params).unwrap();
+    let grip = planned.closed.clone();
     let n = grip.len();
     // Two poses a hair apart, taken in turn, so that every step turns the links afresh.
     let poses = [
@@ -213,7 +217,97 @@ fn reduced_coordinate_floor(c: &mut Criterion) {
             black_box(crba(&model, &mut data, &poses[turn]).unwrap()[(0, 0)])
         })
     });
+    let capsules = world_capsules(&hand, &planned.root, &grip);
+    let (hull, _) = prehensile_sim::object_shape(&sphere()).unwrap();
+    group.bench_function("shadow_contacts_vs_sphere_hull", |b| {
+        b.iter(|| black_box(hull_contacts(&capsules, &hull)))
+    });
+    let centre = sphere().center_of_mass();
+    group.bench_function("shadow_contacts_vs_exact_sphere", |b| {
+        b.iter(|| {
+            black_box(
+                capsules
+                    .iter()
+                    .filter(|c| {
+                        let ab = c.b - c.a;
+                        let s = ((centre - c.a).dot(&ab) / ab.norm_squared()).clamp(0.0, 1.0);
+                        (centre - (c.a + ab * s)).norm() - 0.04 - c.radius <= CONTACT_MARGIN
+                    })
+                    .count(),
+            )
+        })
+    });
+    // A narrow phase from the object's own distance grid instead: the grid's bound of every
+    // capsule's clearance (nodes one spacing apart along it, each an exact distance filled on
+    // first use), which a grid-based contact would read.
+    let object = sphere();
+    let collider = object.collider();
+    group.bench_function("shadow_clearances_from_distance_grid", |b| {
+        b.iter(|| {
+            capsules
+                .iter()
+                .map(|c| {
+                    collider.segment_clearance_upper_bound(&c.a, &c.b, f64::INFINITY) - c.radius
+                })
+                .fold(f64::INFINITY, f64::min)
+        })
+    });
+    eprintln!(
+        "contacts at the grip: {} against the hull",
+        hull_contacts(&capsules, &hull)
+    );
     group.finish();
+}
+
+/// Contacts are made this far out (metres), as an engine keeps a resting contact.
+const CONTACT_MARGIN: f64 = 0.001;
+
+/// Every capsule of `hand` in world coordinates, its root at `root` and its joints at `q`.
+fn world_capsules(
+    hand: &HandModel,
+    root: &prehensile_core::math::Transform,
+    q: &[f64],
+) -> Vec<prehensile_core::collision::Capsule> {
+    let mut ws = prehensile_core::Workspace::new(hand);
+    hand.joint_rotations(q, &mut ws.rotations);
+    prehensile_core::kinematics::forward_kinematics(hand, root, &ws.rotations, &mut ws.world);
+    prehensile_core::finger_closing::update_world_capsules(hand, &mut ws);
+    ws.capsules.clone()
+}
+
+/// How many of `capsules` touch `shape` (at the origin) within [`CONTACT_MARGIN`]: a bounding-box
+/// test, then parry's contact query (GJK/EPA against a convex hull), as an engine's narrow
+/// phase does each step.
+fn hull_contacts(
+    capsules: &[prehensile_core::collision::Capsule],
+    shape: &rapier3d_f64::prelude::SharedShape,
+) -> usize {
+    use rapier3d_f64::parry::bounding_volume::BoundingVolume;
+    use rapier3d_f64::parry::query;
+    use rapier3d_f64::parry::shape::{Capsule, Shape};
+    use rapier3d_f64::prelude::{Pose, Vector};
+    let at_origin = Pose::IDENTITY;
+    let bounds = shape.compute_aabb(&at_origin).loosened(CONTACT_MARGIN);
+    capsules
+        .iter()
+        .filter(|c| {
+            let point = |p: &prehensile_core::math::Point3| Vector::new(p.x, p.y, p.z);
+            let capsule = Capsule::new(point(&c.a), point(&c.b), c.radius);
+            if !capsule.compute_aabb(&at_origin).intersects(&bounds) {
+                return false;
+            }
+            query::contact(
+                &at_origin,
+                &capsule,
+                &at_origin,
+                shape.as_ref(),
+                CONTACT_MARGIN,
+            )
+            .ok()
+            .flatten()
+            .is_some()
+        })
+        .count()
 }
 
 /// 20 projected Gauss–Seidel sweeps of the contact impulses λ (per contact: normal ≥ 0, then two
