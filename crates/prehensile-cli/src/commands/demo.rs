@@ -42,8 +42,14 @@ pub fn run(args: &DemoArgs) -> Result<i32, CliError> {
     bar.set_style(
         ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}").expect("valid template"),
     );
+    // Columns as wide as their longest entry (`human-left`, `precision-wide`).
+    let hand_width = hands.iter().map(|h| h.name().len()).fold(4, usize::max);
+    let movement_width = hands
+        .iter()
+        .flat_map(|h| h.movements().iter().map(|m| m.name().len()))
+        .fold("movement".len(), usize::max);
     let mut table = vec![format!(
-        "{:<9} {:<9} {:<10} {:>8} {:<6} {:<32} {:>8}",
+        "{:<hand_width$} {:<9} {:<movement_width$} {:>8} {:<6} {:<32} {:>8}",
         "hand", "object", "movement", "quality", "valid", "fingers touching", "time ms"
     )];
     let mut gallery = String::from("<!doctype html><meta charset=utf-8><title>Prehensile demo</title><style>body{font-family:sans-serif;background:#fafafa}figure{display:inline-block;margin:8px;background:#fff;border:1px solid #ddd}figcaption{padding:4px 8px;font-size:13px}</style><h1>Prehensile demo</h1>\n");
@@ -89,7 +95,7 @@ pub fn run(args: &DemoArgs) -> Result<i32, CliError> {
                 invalid += 1;
             }
             table.push(format!(
-                "{:<9} {:<9} {:<10} {:>8} {:<6} {:<32} {:>8.1}",
+                "{:<hand_width$} {:<9} {:<movement_width$} {:>8} {:<6} {:<32} {:>8.1}",
                 hand.name(),
                 object.name(),
                 result.movement,

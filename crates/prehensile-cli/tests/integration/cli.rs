@@ -79,7 +79,7 @@ fn bad_files_exit_two_with_a_reason() {
     let out = prehensile(&["grasp", "--movement", "karate"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(
-        text(&out.stderr).contains("power, precision, close"),
+        text(&out.stderr).contains("power, precision, precision-wide, close"),
         "{}",
         text(&out.stderr)
     );
