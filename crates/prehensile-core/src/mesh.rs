@@ -348,14 +348,13 @@ impl TriangleMesh {
         by_set.sort_unstable();
         let mut pairs = 0;
         for list in by_set.chunk_by(|x, y| x.0 == y.0) {
-            loop {
-                let up = list.iter().position(|&(_, t, even)| even && !dead[t]);
-                let down = list.iter().position(|&(_, t, even)| !even && !dead[t]);
-                let (Some(u), Some(d)) = (up, down) else {
-                    break;
-                };
-                dead[list[u].1] = true;
-                dead[list[d].1] = true;
+            // The k-th triangle wound one way cancels the k-th wound the other way, in mesh
+            // order: one pass, so a crafted mesh of many copies of one triangle stays linear.
+            let up = list.iter().filter(|x| x.2).map(|x| x.1);
+            let down = list.iter().filter(|x| !x.2).map(|x| x.1);
+            for (u, d) in up.zip(down) {
+                dead[u] = true;
+                dead[d] = true;
                 pairs += 1;
             }
         }
@@ -811,6 +810,23 @@ mod tests {
             .unwrap()
             .drop_cancelling_triangles();
         assert_eq!(pairs, 0);
+        // A crafted mesh of 200,000 copies of one face, wound both ways in turn plus one more
+        // one way: every pair cancels, in one pass over them (the pairing used to rescan the
+        // copies for every pair, quadratic in their number).
+        let (p, mut t) = tetra();
+        let face = t[0];
+        for k in 0..200_001 {
+            t.push(if k % 2 == 0 {
+                [face[0], face[2], face[1]]
+            } else {
+                face
+            });
+        }
+        let (fixed, _, pairs) = TriangleMesh::weld(&p, &t)
+            .unwrap()
+            .drop_cancelling_triangles();
+        assert_eq!(pairs, 100_001);
+        assert_eq!(fixed.triangles.len(), 4 - 1 + 200_001 - 2 * 100_001 + 1);
     }
 
     #[test]
