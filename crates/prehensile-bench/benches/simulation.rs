@@ -252,9 +252,29 @@ fn reduced_coordinate_floor(c: &mut Criterion) {
                 .fold(f64::INFINITY, f64::min)
         })
     });
+    // The contacts themselves from the grid (`MeshCollider::capsule_contact`: the grid's
+    // conservative test, then the capsule's nearest point by trilinear samples), cold and
+    // warm-started from each capsule's fraction of the step before, as an engine would.
+    let grid_contacts = |warm: &[Option<f64>]| {
+        capsules
+            .iter()
+            .zip(warm)
+            .map(|(c, &w)| collider.capsule_contact(c, CONTACT_MARGIN, w))
+            .map(|contact| contact.map(|c| c.fraction))
+            .collect::<Vec<_>>()
+    };
+    let cold = vec![None; capsules.len()];
+    group.bench_function("shadow_contacts_from_distance_grid_cold", |b| {
+        b.iter(|| black_box(grid_contacts(&cold)))
+    });
+    let warm = grid_contacts(&cold);
+    group.bench_function("shadow_contacts_from_distance_grid_warm", |b| {
+        b.iter(|| black_box(grid_contacts(&warm)))
+    });
     eprintln!(
-        "contacts at the grip: {} against the hull",
-        hull_contacts(&capsules, &hull)
+        "contacts at the grip: {} against the hull, {} from the distance grid",
+        hull_contacts(&capsules, &hull),
+        warm.iter().flatten().count()
     );
     group.finish();
 }

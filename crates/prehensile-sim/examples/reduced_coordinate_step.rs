@@ -11,7 +11,9 @@
 //! movement further. Each step of `dt`:
 //!
 //! 1. the bones placed by forward kinematics; every capsule within 1 mm of the sphere (an exact
-//!    sphere, as MuJoCo collides it) gives a contact: normal, two tangents, its point;
+//!    sphere, as MuJoCo collides it; or, with `mesh`, the built-in sphere's 960-triangle mesh
+//!    through its distance grid, `MeshCollider::capsule_contact`, warm-started from each
+//!    capsule's contact of the step before) gives a contact: normal, two tangents, its point;
 //! 2. the hand's contact Jacobians from the joint axes (hinges and two-axis joints);
 //! 3. M(q) (CRBA) and the bias b(q, q̇) (RNEA), the servos integrated implicitly:
 //!    (M + dt·kd + dt²·kp) q̇⁺ = M q̇ + dt (kp (q* − q) − b) + Jᵀλ;
@@ -21,13 +23,14 @@
 //! 5. velocities updated and integrated (semi-implicit Euler).
 //!
 //! Not modelled: joint limits, tendon couplings, hand–hand contacts, rolling friction. Run:
-//! `cargo run --release -p prehensile-sim --example reduced_coordinate_step -- [HAND] [DT] [SECONDS]`
-//! (default: the Shadow hand, 0.001, 1). Prints the sphere's drift and the median µs per step.
+//! `cargo run --release -p prehensile-sim --example reduced_coordinate_step -- [HAND] [DT] [SECONDS] [exact|mesh]`
+//! (default: the Shadow hand, 0.001, 1, exact). Prints the sphere's drift and the median µs per step.
 
 use std::time::Instant;
 
 use nalgebra::{DMatrix, DVector, UnitQuaternion};
 use prehensile_control::{crba, rnea, BaseMotion, DynamicsModel};
+use prehensile_core::collision::Capsule;
 use prehensile_core::hand::Joint;
 use prehensile_core::kinematics::forward_kinematics;
 use prehensile_core::math::{Point3, Rotation, Transform, Vec3};
@@ -67,6 +70,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let hand_name = args.first().map_or(shadow, String::as_str);
     let dt: f64 = args.get(1).map_or(Ok(0.001), |s| s.parse())?;
     let seconds: f64 = args.get(2).map_or(Ok(1.0), |s| s.parse())?;
+    let use_mesh = match args.get(3).map(String::as_str) {
+        None | Some("exact") => false,
+        Some("mesh") => true,
+        Some(other) => {
+            return Err(format!("the fourth argument is exact or mesh, not {other}").into())
+        }
+    };
     let hand = prehensile_formats::builtin_hand(hand_name).map_or_else(
         || prehensile_formats::load_hand(std::path::Path::new(hand_name)),
         Ok,
@@ -110,6 +120,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     blocks.retain(|b| !b.is_empty());
     let mut previous = vec![[0.0f64; 3]; hand.capsules().len()];
+    // Each capsule's contact fraction of the step before (the mesh narrow phase's warm start).
+    let mut fractions: Vec<Option<f64>> = vec![None; hand.capsules().len()];
     let mut rotations = vec![Rotation::identity(); hand.bones().len()];
     let mut world = vec![Transform::identity(); hand.bones().len()];
     let zeros = vec![0.0; n];
@@ -128,15 +140,41 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let mut rows: Vec<Row> = Vec::new();
         for (capsule, c) in hand.capsules().iter().enumerate() {
             let (a, b) = (world[c.bone] * c.a, world[c.bone] * c.b);
-            let ab = b - a;
-            let s = ((centre - a).dot(&ab) / ab.norm_squared().max(1e-300)).clamp(0.0, 1.0);
-            let nearest = a + ab * s;
-            let gap = (centre - nearest).norm() - RADIUS - c.radius;
+            // The contact's gap, its normal from the capsule into the object, and its point.
+            let (gap, normal, point) = if use_mesh {
+                // The capsule in the mesh's own frame, where its distance grid lies.
+                let to_mesh = |p: Point3| start + orientation.inverse() * (p - centre);
+                let local = Capsule {
+                    a: to_mesh(a),
+                    b: to_mesh(b),
+                    radius: c.radius,
+                };
+                let found = sphere
+                    .collider()
+                    .capsule_contact(&local, MARGIN, fractions[capsule]);
+                fractions[capsule] = found.map(|f| f.fraction);
+                let Some(contact) = found else {
+                    continue;
+                };
+                (
+                    contact.gap,
+                    -(orientation * contact.normal),
+                    centre + orientation * (contact.point - start),
+                )
+            } else {
+                let ab = b - a;
+                let s = ((centre - a).dot(&ab) / ab.norm_squared().max(1e-300)).clamp(0.0, 1.0);
+                let nearest = a + ab * s;
+                let normal = (centre - nearest).normalize();
+                (
+                    (centre - nearest).norm() - RADIUS - c.radius,
+                    normal,
+                    nearest + normal * c.radius,
+                )
+            };
             if gap > MARGIN {
                 continue;
             }
-            let normal = (centre - nearest).normalize();
-            let point = nearest + normal * c.radius;
             let t1 = normal
                 .cross(&Vec3::x())
                 .try_normalize(1e-6)

@@ -8,12 +8,14 @@
 //! function the grid's bounds need.
 
 mod boundary_fan;
+mod capsule_contact;
 mod fast_winding_number;
 mod inside_volume;
 mod signed_distance_grid;
 mod triangle_bvh;
 
 pub use boundary_fan::BoundaryFan;
+pub use capsule_contact::CapsuleContact;
 pub use fast_winding_number::{triangle_solid_angle, WindingNumberTree};
 pub use inside_volume::{inside_volume_and_centroid, overlaps_itself, InsideVolume};
 pub use signed_distance_grid::{Decision, SignedDistanceGrid};

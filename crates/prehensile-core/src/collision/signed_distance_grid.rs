@@ -134,6 +134,57 @@ impl SignedDistanceGrid {
         self.spacing
     }
 
+    /// The signed distance at `p` interpolated trilinearly from its cell's eight nodes, and its
+    /// gradient (not normalized), for contact generation; `None` outside the grid or where a
+    /// corner is beyond the band (farther than `band − √3·spacing` from the surface). Within the
+    /// band the nodes are exact, so the value is off the true distance by at most the
+    /// interpolation error: about `spacing² / (8 R)` on a surface of curvature radius `R`, up to
+    /// half a spacing at a sharp edge.
+    pub fn sample(&self, exact: &TriangleBvh, p: &Point3) -> Option<(f64, Vec3)> {
+        let mut cell = [0usize; 3];
+        let mut f = [0.0f64; 3];
+        for i in 0..3 {
+            let x = (p[i] - self.origin[i]) / self.spacing;
+            // NaN fails the test.
+            if !(x >= 0.0 && x <= (self.dims[i] - 1) as f64) {
+                return None;
+            }
+            cell[i] = (x as usize).min(self.dims[i] - 2);
+            f[i] = x - cell[i] as f64;
+        }
+        let band = self.band as f32;
+        let mut corner = [0.0f64; 8];
+        let base = (cell[2] * self.dims[1] + cell[1]) * self.dims[0] + cell[0];
+        let layer = self.dims[0] * self.dims[1];
+        for (k, value) in corner.iter_mut().enumerate() {
+            let at = base + (k & 1) + (k >> 1 & 1) * self.dims[0] + (k >> 2) * layer;
+            let bits = self.values[at].load(Ordering::Relaxed);
+            let v = if bits != UNFILLED {
+                f32::from_bits(bits)
+            } else {
+                self.node_value(exact, [0, 1, 2].map(|i| cell[i] + (k >> i & 1)))
+            };
+            if v.abs() >= band {
+                return None;
+            }
+            *value = v as f64;
+        }
+        // Interpolate along x, then y, then z, carrying the derivatives.
+        let lerp = |a: f64, b: f64, t: f64| a + (b - a) * t;
+        let x = [0, 1, 2, 3].map(|k| lerp(corner[2 * k], corner[2 * k + 1], f[0]));
+        let dx = [0, 1, 2, 3].map(|k| corner[2 * k + 1] - corner[2 * k]);
+        let y = [lerp(x[0], x[1], f[1]), lerp(x[2], x[3], f[1])];
+        let dxy = [lerp(dx[0], dx[1], f[1]), lerp(dx[2], dx[3], f[1])];
+        let dy = [x[1] - x[0], x[3] - x[2]];
+        let value = lerp(y[0], y[1], f[2]);
+        let gradient = Vec3::new(
+            lerp(dxy[0], dxy[1], f[2]),
+            lerp(dy[0], dy[1], f[2]),
+            y[1] - y[0],
+        ) / self.spacing;
+        Some((value, gradient))
+    }
+
     /// Lower and upper bounds of the signed distance at `p` from its nearest node; `None`
     /// outside the grid. Far nodes bound only one side.
     fn bounds_at(&self, exact: &TriangleBvh, p: &Point3) -> Option<(f64, f64)> {
@@ -232,6 +283,22 @@ impl SignedDistanceGrid {
                 return Decision::Free;
             }
         }
+        self.walk(exact, a, b, radius)
+    }
+
+    /// The cheap half of [`Self::decide`]: true when the mesh's bounding box or the node nearest
+    /// the segment's middle proves capsule `a–b` with `radius` clear of the object (one lookup
+    /// at most); false says nothing.
+    pub fn proves_clear(&self, exact: &TriangleBvh, a: &Point3, b: &Point3, radius: f64) -> bool {
+        self.box_gap(a, b) > radius
+            || self
+                .bounds_at(exact, &nalgebra::center(a, b))
+                .is_some_and(|(lower, _)| lower - (b - a).norm() * 0.5 > radius)
+    }
+
+    /// The walk of [`Self::decide`] along the segment, once the middle did not decide it.
+    fn walk(&self, exact: &TriangleBvh, a: &Point3, b: &Point3, radius: f64) -> Decision {
+        let half = (b - a).norm() * 0.5;
         // Walk the segment. A sample whose lower bound exceeds the radius by g clears every point
         // within g of it (the distance is 1-Lipschitz), so the walk leaps g ahead (sphere
         // tracing); an undecided sample moves one grid spacing on.
