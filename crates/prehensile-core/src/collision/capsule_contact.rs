@@ -50,13 +50,18 @@ impl MeshCollider {
     /// the capsule is farther. `warm_start` is the segment fraction of the last step's contact.
     /// Without one, a capsule whose nearest point the search found outside the object while
     /// the grid proves it overlapping (a local dip of a concave object) is searched again from
-    /// five points along it; a warm start trusts the contact it follows. Allocates nothing.
+    /// five points along it; a warm start trusts the contact it follows. A capsule with a NaN or
+    /// infinite coordinate or radius has no contact. Allocates nothing.
     pub fn capsule_contact(
         &self,
         capsule: &Capsule,
         margin: f64,
         warm_start: Option<f64>,
     ) -> Option<CapsuleContact> {
+        let finite = |p: &Point3| p.coords.iter().all(|x| x.is_finite());
+        if !(finite(&capsule.a) && finite(&capsule.b) && capsule.radius.is_finite()) {
+            return None;
+        }
         let reach = capsule.radius + margin.max(0.0);
         let fraction = warm_start.map(|t| t.clamp(0.0, 1.0));
         if let Some(grid) = self.grid() {
@@ -212,7 +217,7 @@ fn nearest_point(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::collision::TriangleBvh;
+    use crate::collision::{Decision, TriangleBvh};
     use crate::shapes::builtin_object;
     use crate::ObjectModel;
     use proptest::prelude::*;
@@ -347,6 +352,48 @@ mod tests {
                 prop_assert!(shallower <= 1e-4 && deeper <= 1e-4, "{name}: {shallower} {deeper}");
             }
         }
+    }
+
+    /// A NaN or infinite capsule gets no contact; a NaN one touches nothing, and the grid's
+    /// test of it ends (its walk along a NaN segment never did) by leaving it to the exact path.
+    #[test]
+    fn a_capsule_that_is_not_finite_has_no_contact_and_does_not_hang() {
+        let object = ObjectModel::new("sphere", builtin_object("sphere").unwrap(), None).unwrap();
+        let origin = Point3::origin();
+        let nan = Point3::new(f64::NAN, 0.0, 0.0);
+        let far = Point3::new(f64::INFINITY, 0.0, 0.0);
+        let capsule = |a, b, radius| Capsule { a, b, radius };
+        let not_finite = [
+            capsule(nan, origin, 0.01),
+            capsule(origin, origin, f64::NAN),
+            capsule(origin, nan, f64::INFINITY),
+            capsule(far, origin, 0.01),
+        ];
+        for capsule in &not_finite {
+            assert_eq!(
+                object.collider().capsule_contact(capsule, MARGIN, None),
+                None
+            );
+            assert_eq!(
+                object
+                    .collider()
+                    .capsule_contact(capsule, MARGIN, Some(0.5)),
+                None
+            );
+        }
+        let grid = object.collider().grid().unwrap();
+        let exact = object.collider().exact();
+        for capsule in &not_finite[..3] {
+            let decision = grid.decide(exact, &capsule.a, &capsule.b, capsule.radius);
+            let unsure = Decision::Unsure {
+                from: 0.0,
+                to: 1.0,
+                outside: false,
+            };
+            assert_eq!(decision, unsure);
+            assert!(!object.capsule_touches(capsule, &mut Default::default()));
+        }
+        assert!(exact.signed_distance(&nan).is_nan());
     }
 
     /// Warm-started from its own answer, a contact is found again at once and unchanged.

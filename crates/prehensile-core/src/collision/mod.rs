@@ -86,8 +86,19 @@ impl MeshCollider {
     }
 
     /// Fast test, same answer as the exact one: does the capsule touch or lie inside the object?
+    /// A capsule with a NaN coordinate or radius touches nothing.
     pub fn capsule_touches(&self, capsule: &Capsule, counters: &mut CollisionCounters) -> bool {
         counters.queries += 1;
+        if capsule
+            .a
+            .coords
+            .iter()
+            .chain(capsule.b.coords.iter())
+            .any(|x| x.is_nan())
+            || capsule.radius.is_nan()
+        {
+            return false;
+        }
         let Some(fast) = &self.fast else {
             counters.exact_fallbacks += 1;
             return self

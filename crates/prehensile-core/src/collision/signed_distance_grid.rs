@@ -270,6 +270,14 @@ impl SignedDistanceGrid {
     /// Decides from the grid (filled from `exact` where needed) whether capsule `a–b` with
     /// `radius` touches or is inside the object.
     pub fn decide(&self, exact: &TriangleBvh, a: &Point3, b: &Point3, radius: f64) -> Decision {
+        // A NaN capsule bounds nothing (and its walk would never end): the exact path answers.
+        if a.coords.iter().chain(b.coords.iter()).any(|x| x.is_nan()) || radius.is_nan() {
+            return Decision::Unsure {
+                from: 0.0,
+                to: 1.0,
+                outside: false,
+            };
+        }
         if self.box_gap(a, b) > radius {
             return Decision::Free;
         }

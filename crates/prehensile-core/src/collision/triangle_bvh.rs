@@ -313,10 +313,11 @@ impl TriangleBvh {
         self.corners.len()
     }
 
-    /// Exact signed distance from `p` to the surface: positive outside, negative inside.
+    /// Exact signed distance from `p` to the surface: positive outside, negative inside; NaN
+    /// for a point with a NaN coordinate (no triangle is at any distance from it).
     pub fn signed_distance(&self, p: &Point3) -> f64 {
         self.signed_distance_within(p, f64::INFINITY)
-            .expect("a mesh has triangles, so one is within an infinite distance")
+            .unwrap_or(f64::NAN)
     }
 
     /// Exact signed distance from `p` if the surface is within `max` of it, else `None`.
