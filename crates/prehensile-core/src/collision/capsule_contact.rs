@@ -140,8 +140,8 @@ fn nearest_point(
             .min_by(|x, y| x.distance.total_cmp(&y.distance))
     })?;
     let mut near = best;
-    // The far end of the bracket: the segment end the distance descends toward; `None` while
-    // it lies too far from the surface to sample.
+    // The far end of the bracket, first the segment end the distance descends toward; `far` is
+    // its sample, `None` until one was taken there (a point too far to sample has none).
     let mut far_t = if near.slope > 0.0 { 0.0 } else { 1.0 };
     let mut far: Option<Sample> = None;
     // First a millimetre along the descent: from a warm start at last step's answer this
@@ -178,11 +178,6 @@ fn nearest_point(
         if next.slope * near.slope > 0.0 {
             // Still descending at `next`: it is the new near end, or the minimum is the end.
             if next.t == far_t {
-                best = if next.distance <= best.distance {
-                    next
-                } else {
-                    best
-                };
                 break;
             }
             near = next;
