@@ -26,6 +26,8 @@ use super::{Capsule, Decision, MeshCollider};
 
 /// Most samples per capsule after the first.
 const MAX_ROUNDS: usize = 16;
+/// Where along a capsule a search without a start looks first (segment fractions).
+const SPREAD: [f64; 5] = [0.0, 0.25, 0.5, 0.75, 1.0];
 /// How far along the segment the first probe goes (metres).
 const NUDGE: f64 = 1e-3;
 /// Stop once the distance can fall by less than this (metres).
@@ -77,7 +79,7 @@ impl MeshCollider {
             {
                 // The grid proves an overlap the search missed: it stopped in a local dip of a
                 // concave object. Search again from points spread along the capsule.
-                return [0.0, 1.0, 0.5, 0.25, 0.75]
+                return SPREAD
                     .into_iter()
                     .filter_map(|t| nearest_point(capsule, reach, Some(t), sample))
                     .chain(found)
@@ -134,7 +136,7 @@ fn nearest_point(
     // Without a start (or one too far to sample), the lowest of five points spread along the
     // capsule: on a concave object the lowest dip is then the one searched.
     let mut best = start.and_then(at).or_else(|| {
-        [0.0, 0.25, 0.5, 0.75, 1.0]
+        SPREAD
             .into_iter()
             .filter_map(at)
             .min_by(|x, y| x.distance.total_cmp(&y.distance))
@@ -264,15 +266,11 @@ mod tests {
             };
             let contact = collider.capsule_contact(capsule, MARGIN, None);
             found += contact.is_some() as usize;
-            let (gap, error) = match contact {
-                Some(c) => (c.gap, c.gap - truth),
-                None => (MARGIN, (MARGIN - truth).max(0.0)),
+            let error = match contact {
+                Some(c) => c.gap - truth,
+                None => (MARGIN - truth).max(0.0),
             };
-            if outside || contact.is_none() {
-                shallower = shallower.max(error);
-            } else {
-                shallower = shallower.max(gap - truth).max(0.0);
-            }
+            shallower = shallower.max(error);
             if outside {
                 deeper = deeper.max(-error);
             }
