@@ -181,8 +181,9 @@ def build_here(result, mesh_path):
             spec.delete(s)
     for name in ["robot0:WRJ1", "robot0:WRJ0"]:
         spec.delete(spec.joint(name))
-    # The floor goes, and so do the mesh geoms and meshes: the visual meshes are not in the
-    # repository (the fixture's stls/ folder), and the only mesh collider is the forearm's.
+    # The floor goes, and so do the mesh geoms and meshes: most visual meshes are not in the
+    # repository (only the phalanges' are, for the tests), and the only mesh collider is the
+    # forearm's.
     for g in list(spec.geoms):
         if g.name == "floor0" or g.type == mujoco.mjtGeom.mjGEOM_MESH:
             spec.delete(g)

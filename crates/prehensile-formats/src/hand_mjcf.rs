@@ -1,7 +1,8 @@
 //! Hands from MuJoCo MJCF: `<include>` files, default classes (with `childclass`), bodies with
 //! `pos`/`quat`/`euler`/`axisangle`, hinge joints (two in one body become a two-axis joint),
-//! collision geoms (capsule, cylinder, sphere, box; meshes and non-colliding geoms are skipped),
-//! fingertip sites and two-joint fixed tendons as couplings. The hand's root is the first body
+//! collision geoms (capsule, cylinder, sphere, box; meshes as capsules inside their convex hull,
+//! read from the `<asset>`'s files below the model's folder or from inline vertices; planes and
+//! non-colliding geoms are skipped), fingertip sites and two-joint fixed tendons as couplings. The hand's root is the first body
 //! where the kinematic tree branches (the palm); the bodies above it (forearm, wrist) are
 //! dropped and named in the hand's description.
 
@@ -13,6 +14,7 @@ use prehensile_core::math::{Point3, Rotation, Transform, Vec3};
 use prehensile_core::HandModel;
 use roxmltree::{Document, Node};
 
+use crate::collision_mesh::{vertex_capsules, MeshCapsules, MeshFiles, MAX_HAND_MESH_VERTICES};
 use crate::hand_import::{
     bone, box_capsules, build_in_hand_frame, farthest_capsule_end, file_stem, name_fingers, Sidecar,
 };
@@ -25,12 +27,18 @@ const MAX_INCLUDE_DEPTH: usize = 8;
 pub fn load_hand_mjcf(path: &Path) -> Result<HandModel, FormatError> {
     let name = path.display().to_string();
     let text = expand_includes(path, 0, &mut IncludeBudget::new(), &Includes::Disk)?;
-    parse_hand_mjcf_with(&text, &name, Sidecar::beside(path)?.as_ref())
+    parse_mjcf(
+        &text,
+        &name,
+        Sidecar::beside(path)?.as_ref(),
+        MeshFiles::Disk(path),
+    )
 }
 
 /// Reads an MJCF hand from named files held in memory (files dropped on a web page, which come
 /// without their folders): `main` is the hand's file, and an `<include file="…"/>` names another
-/// of `files` by its file name. The same bounds as on disk apply.
+/// of `files` by its file name, and so does a mesh asset's `file`. The same bounds as on disk
+/// apply.
 pub fn parse_hand_mjcf_files(
     main: &str,
     files: &[(String, Vec<u8>)],
@@ -41,7 +49,7 @@ pub fn parse_hand_mjcf_files(
         &mut IncludeBudget::new(),
         &Includes::Named(files),
     )?;
-    parse_hand_mjcf(&text, main)
+    parse_mjcf(&text, main, None, MeshFiles::Named(files))
 }
 
 /// Where included files are read from.
@@ -283,16 +291,27 @@ pub fn parse_hand_mjcf(text: &str, source: &str) -> Result<HandModel, FormatErro
     parse_hand_mjcf_with(text, source, None)
 }
 
-/// As [`parse_hand_mjcf`], with a sidecar's overrides.
+/// As [`parse_hand_mjcf`], with a sidecar's overrides. Mesh geoms whose vertices are in files
+/// are skipped (and named): [`load_hand_mjcf`] reads them.
 pub fn parse_hand_mjcf_with(
     text: &str,
     source: &str,
     sidecar: Option<&Sidecar>,
 ) -> Result<HandModel, FormatError> {
+    parse_mjcf(text, source, sidecar, MeshFiles::None)
+}
+
+/// MJCF text into a hand, its mesh files read from `meshes`.
+fn parse_mjcf(
+    text: &str,
+    source: &str,
+    sidecar: Option<&Sidecar>,
+    meshes: MeshFiles,
+) -> Result<HandModel, FormatError> {
     let doc = Document::parse(text)
         .map_err(|e| FormatError::at(source, format!("line {}", e.pos().row), e.to_string()))?;
     let root = doc.root_element();
-    let mut reader = MjcfReader::new(&doc, source)?;
+    let mut reader = MjcfReader::new(&doc, source, meshes)?;
     reader.check_classes(root)?;
     let palm = reader.palm(root)?;
     let mut parts = HandParts {
@@ -343,8 +362,24 @@ struct MjcfReader<'d, 'i> {
     dropped: Vec<String>,
     /// Box geoms and how many capsules stand in for each.
     boxes: Vec<String>,
-    /// Colliding geoms that are not read, with their type.
+    /// Where mesh assets' files are read from.
+    mesh_files: MeshFiles<'d>,
+    /// The `<asset>`'s meshes by name.
+    mesh_assets: HashMap<String, MeshAsset>,
+    /// Mesh geoms and what they became.
+    meshes: Vec<String>,
+    /// Vertices the collision meshes may still have.
+    mesh_budget: usize,
+    /// Colliding geoms that are not read, with the reason.
     skipped: Vec<String>,
+}
+
+/// A `<mesh>` of the `<asset>`: its file (with the compiler's `meshdir`) or inline vertices,
+/// and its scale per axis.
+struct MeshAsset {
+    file: Option<String>,
+    vertex: Option<Vec<f64>>,
+    scale: Vec3,
 }
 
 /// One `<joint>` of a body.
@@ -356,27 +391,81 @@ enum JointElement {
 }
 
 impl<'d, 'i> MjcfReader<'d, 'i> {
-    /// The compiler's angle unit and every default class of `doc`.
-    fn new(doc: &'d Document<'i>, source: &'d str) -> Result<Self, FormatError> {
+    /// The compiler's angle unit, every default class and every mesh asset of `doc`.
+    fn new(
+        doc: &'d Document<'i>,
+        source: &'d str,
+        mesh_files: MeshFiles<'d>,
+    ) -> Result<Self, FormatError> {
         let root = doc.root_element();
-        let degrees = root
-            .descendants()
-            .find(|n| n.has_tag_name("compiler"))
+        let compiler = root.descendants().find(|n| n.has_tag_name("compiler"));
+        let degrees = compiler
             .and_then(|c| c.attribute("angle"))
             .is_none_or(|a| a != "radian");
         let mut classes = HashMap::new();
         for d in root.children().filter(|n| n.has_tag_name("default")) {
             Defaults::collect(d, None, &mut classes, source)?;
         }
-        Ok(Self {
+        let mut reader = Self {
             doc,
             source,
             defaults: Defaults { classes },
             degrees,
             dropped: Vec::new(),
             boxes: Vec::new(),
+            mesh_files,
+            mesh_assets: HashMap::new(),
+            meshes: Vec::new(),
+            mesh_budget: MAX_HAND_MESH_VERTICES,
             skipped: Vec::new(),
-        })
+        };
+        let mesh_dir = compiler
+            .and_then(|c| c.attribute("meshdir").or_else(|| c.attribute("assetdir")))
+            .unwrap_or("");
+        for mesh in root
+            .children()
+            .filter(|n| n.has_tag_name("asset"))
+            .flat_map(|a| a.children().filter(|n| n.has_tag_name("mesh")))
+        {
+            reader.one_mesh_asset(mesh, mesh_dir)?;
+        }
+        Ok(reader)
+    }
+
+    /// One `<mesh>` of the `<asset>`: named by `name` or its file's stem, as MuJoCo names it.
+    fn one_mesh_asset(&mut self, mesh: Node, mesh_dir: &str) -> Result<(), FormatError> {
+        let file = mesh.attribute("file").map(|f| {
+            if mesh_dir.is_empty() {
+                f.to_string()
+            } else {
+                format!("{}/{f}", mesh_dir.trim_end_matches('/'))
+            }
+        });
+        let name = match (mesh.attribute("name"), mesh.attribute("file")) {
+            (Some(n), _) => n.to_string(),
+            (None, Some(f)) => file_stem(f),
+            (None, None) => return Err(self.error(mesh, "a <mesh> needs a name or a file")),
+        };
+        let vertex = match mesh.attribute("vertex") {
+            Some(v) => Some(self.numbers(mesh, v, "vertex")?),
+            None => None,
+        };
+        let scale = match self.get(mesh, "scale") {
+            Some(s) => match self.numbers(mesh, &s, "scale")?.as_slice() {
+                [x, y, z] => Vec3::new(*x, *y, *z),
+                _ => return Err(self.error(mesh, "scale needs three numbers")),
+            },
+            None => Vec3::repeat(1.0),
+        };
+        self.mesh_assets.insert(
+            name,
+            MeshAsset {
+                file,
+                vertex,
+                scale,
+            },
+        );
+        Ok(())
     }
 
     /// Where `node` is, for messages.
@@ -694,19 +783,34 @@ impl<'d, 'i> MjcfReader<'d, 'i> {
     }
 
     /// One `<geom>` that collides, as capsules of the bone: capsules and cylinders by `fromto`
-    /// or size, spheres, boxes as rows of capsules within 1 mm of their faces. Meshes and planes
-    /// are named in the description as skipped.
+    /// or size, spheres, boxes as rows of capsules within 1 mm of their faces, meshes as
+    /// capsules inside their convex hull. Planes, primitives fitted to a mesh and meshes that
+    /// cannot be read are named in the description as skipped.
     fn one_geom(&mut self, g: Node, part: &mut BonePart) -> Result<(), FormatError> {
         let collides = self.get(g, "contype").is_none_or(|c| c != "0")
             || self.get(g, "conaffinity").is_none_or(|c| c != "0");
         if !collides {
             return Ok(());
         }
+        let mesh = self.get(g, "mesh");
         let kind = self.get(g, "type").unwrap_or_else(|| "sphere".into());
         let geom_name = g.attribute("name").unwrap_or("unnamed").to_string();
-        if kind == "mesh" || kind == "plane" || g.has_attribute("mesh") {
-            self.skipped.push(format!("{geom_name} ({kind})"));
-            return Ok(());
+        match (kind.as_str(), mesh) {
+            ("mesh", Some(mesh)) => return self.mesh_geom(g, &geom_name, &mesh, part),
+            ("mesh", None) => {
+                return Err(self.error(g, format!("mesh geom '{geom_name}' names no mesh")))
+            }
+            ("plane", _) => {
+                self.skipped.push(format!("{geom_name} (a plane)"));
+                return Ok(());
+            }
+            (_, Some(_)) => {
+                self.skipped.push(format!(
+                    "{geom_name} (a {kind} fitted to a mesh is not supported; give its size)"
+                ));
+                return Ok(());
+            }
+            _ => {}
         }
         let size = self.numbers(g, &self.get(g, "size").unwrap_or_default(), "size")?;
         if let (Some(ft), Some(r)) = (self.get(g, "fromto"), size.first()) {
@@ -741,6 +845,59 @@ impl<'d, 'i> MjcfReader<'d, 'i> {
             frame * Point3::from(half),
             radius,
         ));
+        Ok(())
+    }
+
+    /// A mesh geom as capsules inside the mesh's hull, placed by the geom's frame (MuJoCo
+    /// collides a mesh geom as its convex hull).
+    fn mesh_geom(
+        &mut self,
+        g: Node,
+        geom_name: &str,
+        mesh: &str,
+        part: &mut BonePart,
+    ) -> Result<(), FormatError> {
+        let frame = self.frame(g)?;
+        let made: Result<MeshCapsules, String> = match self.mesh_assets.get(mesh) {
+            None => Err(format!("{geom_name} (mesh '{mesh}' is not in the <asset>)")),
+            Some(MeshAsset {
+                vertex: Some(v),
+                scale,
+                ..
+            }) => {
+                if v.len() % 3 != 0 {
+                    return Err(self.error(
+                        g,
+                        format!(
+                            "mesh '{mesh}' has {} vertex numbers, not a multiple of 3",
+                            v.len()
+                        ),
+                    ));
+                }
+                let points: Vec<Point3> = v
+                    .chunks_exact(3)
+                    .map(|c| Point3::new(c[0], c[1], c[2]))
+                    .collect();
+                vertex_capsules(geom_name, &points, *scale, &frame, &mut self.mesh_budget)
+            }
+            Some(MeshAsset {
+                file: Some(file),
+                scale,
+                ..
+            }) => self
+                .mesh_files
+                .capsules(geom_name, file, *scale, &frame, &mut self.mesh_budget),
+            Some(_) => Err(format!(
+                "{geom_name} (mesh '{mesh}' has neither a file nor vertices)"
+            )),
+        };
+        match made {
+            Ok(m) => {
+                part.capsules.extend(m.capsules);
+                self.meshes.push(m.note);
+            }
+            Err(note) => self.skipped.push(note),
+        }
         Ok(())
     }
 
@@ -804,11 +961,11 @@ impl<'d, 'i> MjcfReader<'d, 'i> {
                 self.boxes.join(", ")
             );
         }
+        if !self.meshes.is_empty() {
+            d += &format!("; meshes as capsules: {}", self.meshes.join(", "));
+        }
         if !self.skipped.is_empty() {
-            d += &format!(
-                "; collision geoms skipped (meshes and planes are not supported): {}",
-                self.skipped.join(", ")
-            );
+            d += &format!("; collision geoms skipped: {}", self.skipped.join(", "));
         }
         d
     }

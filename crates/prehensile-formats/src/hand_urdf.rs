@@ -1,5 +1,7 @@
 //! Hands from URDF: links become bones, revolute and continuous joints hinges (fixed joints
-//! fixed), `<mimic>` couplings, collision cylinders, capsules, spheres and boxes capsules.
+//! fixed), `<mimic>` couplings, collision cylinders, capsules, spheres and boxes capsules, and
+//! collision meshes capsules inside their convex hull (files below the URDF's folder;
+//! `package://name/path` is looked up as `path` there).
 //! Links without collision geometry get a capsule to their child's joint with a radius guessed
 //! from their mass; a last link without geometry gets its tip at twice its centre of mass.
 
@@ -10,6 +12,7 @@ use prehensile_core::math::{Point3, Rotation, Transform, Vec3};
 use prehensile_core::HandModel;
 use roxmltree::{Document, Node};
 
+use crate::collision_mesh::{MeshFiles, MAX_HAND_MESH_VERTICES};
 use crate::hand_import::{
     bone, box_capsules, build_in_hand_frame, farthest_capsule_end, file_stem, name_fingers,
     radius_from_mass, Sidecar,
@@ -25,7 +28,8 @@ struct Link {
     capsules: Vec<(Point3, Point3, f64)>,
 }
 
-/// Parses URDF text into a hand. `source` names the file in errors.
+/// Parses URDF text into a hand. `source` names the file in errors. Collision meshes are
+/// skipped (and named): [`load_hand_urdf`] reads them from the file's folder.
 pub fn parse_hand_urdf(text: &str, source: &str) -> Result<HandModel, FormatError> {
     parse_hand_urdf_with(text, source, None)
 }
@@ -36,9 +40,26 @@ pub fn parse_hand_urdf_with(
     source: &str,
     sidecar: Option<&Sidecar>,
 ) -> Result<HandModel, FormatError> {
+    parse_urdf(text, source, sidecar, MeshFiles::None)
+}
+
+/// URDF text into a hand, its collision meshes read from `meshes`.
+fn parse_urdf(
+    text: &str,
+    source: &str,
+    sidecar: Option<&Sidecar>,
+    meshes: MeshFiles,
+) -> Result<HandModel, FormatError> {
     let doc = Document::parse(text)
         .map_err(|e| FormatError::at(source, format!("line {}", e.pos().row), e.to_string()))?;
-    let reader = UrdfReader { doc: &doc, source };
+    let mut reader = UrdfReader {
+        doc: &doc,
+        source,
+        mesh_files: meshes,
+        meshes: Vec::new(),
+        skipped: Vec::new(),
+        mesh_budget: MAX_HAND_MESH_VERTICES,
+    };
     let robot = doc.root_element();
     if robot.tag_name().name() != "robot" {
         return Err(reader.error(robot, "a URDF file's root element is <robot>"));
@@ -61,7 +82,6 @@ pub fn parse_hand_urdf_with(
             .attribute("name")
             .map(str::to_string)
             .unwrap_or_else(|| file_stem(source)),
-        description: format!("imported from {source}"),
         ..Default::default()
     };
     let mut bones = HashMap::new();
@@ -99,6 +119,7 @@ pub fn parse_hand_urdf_with(
         link_shapes(part, link, ends.get(&part.name).map_or(&[], Vec::as_slice));
     }
     name_fingers(&mut parts);
+    parts.description = reader.description();
     build_in_hand_frame(parts, source, sidecar)
 }
 
@@ -140,10 +161,19 @@ fn link_shapes(part: &mut BonePart, link: Link, ends: &[Point3]) {
     }
 }
 
-/// Reads the elements of one URDF document, one method per element.
+/// Reads the elements of one URDF document, one method per element, and notes what its
+/// collision meshes became.
 struct UrdfReader<'d, 'i> {
     doc: &'d Document<'i>,
     source: &'d str,
+    /// Where collision meshes are read from.
+    mesh_files: MeshFiles<'d>,
+    /// Collision meshes and what they became.
+    meshes: Vec<String>,
+    /// Collision meshes not read, with the reason.
+    skipped: Vec<String>,
+    /// Vertices the collision meshes may still have.
+    mesh_budget: usize,
 }
 
 impl UrdfReader<'_, '_> {
@@ -157,7 +187,7 @@ impl UrdfReader<'_, '_> {
     }
 
     /// One `<link>`: its inertial and collision geometry.
-    fn one_link(&self, link: Node) -> Result<Link, FormatError> {
+    fn one_link(&mut self, link: Node) -> Result<Link, FormatError> {
         let mut read = Link {
             mass: 0.0,
             com: Point3::origin(),
@@ -203,9 +233,9 @@ impl UrdfReader<'_, '_> {
     }
 
     /// One `<collision>`: cylinders, capsules and spheres as one capsule, boxes as rows of
-    /// capsules; meshes are not read.
+    /// capsules, meshes as capsules inside their hull.
     fn one_collision(
-        &self,
+        &mut self,
         collision: Node,
         capsules: &mut Vec<(Point3, Point3, f64)>,
     ) -> Result<(), FormatError> {
@@ -232,12 +262,64 @@ impl UrdfReader<'_, '_> {
                 let size = self.vector(geometry, "size")?;
                 capsules.extend(box_capsules(&frame, (size / 2.0).into()));
             }
-            "mesh" => {}
+            "mesh" => self.one_mesh(collision, geometry, &frame, capsules)?,
             other => {
                 return Err(self.error(geometry, format!("unknown collision geometry <{other}>")))
             }
         }
         Ok(())
+    }
+
+    /// One collision `<mesh filename scale>`: capsules inside its convex hull, or a note saying
+    /// why it was skipped.
+    fn one_mesh(
+        &mut self,
+        collision: Node,
+        mesh: Node,
+        frame: &Transform,
+        capsules: &mut Vec<(Point3, Point3, f64)>,
+    ) -> Result<(), FormatError> {
+        let filename = self.attr(mesh, "filename")?;
+        let scale = match mesh.attribute("scale") {
+            Some(_) => self.vector(mesh, "scale")?,
+            None => Vec3::repeat(1.0),
+        };
+        let name = collision
+            .attribute("name")
+            .map_or_else(|| filename.to_string(), str::to_string);
+        // package://name/path: the package's own folder is unknown here; look below ours.
+        let reference = filename
+            .strip_prefix("package://")
+            .map_or(filename, |rest| {
+                rest.split_once('/').map_or(rest, |(_, p)| p)
+            });
+        match self
+            .mesh_files
+            .capsules(&name, reference, scale, frame, &mut self.mesh_budget)
+        {
+            Ok(made) => {
+                capsules.extend(made.capsules);
+                self.meshes.push(made.note);
+            }
+            Err(note) => self.skipped.push(note),
+        }
+        Ok(())
+    }
+
+    /// The hand's description: its source and what its collision meshes became.
+    fn description(&self) -> String {
+        let mut d = format!("imported from {}", self.source);
+        if !self.meshes.is_empty() {
+            d += &format!("; meshes as capsules: {}", self.meshes.join(", "));
+        }
+        if !self.skipped.is_empty() {
+            d += &format!(
+                "; collision meshes skipped (links without collision geometry get a capsule \
+                 guessed from their mass): {}",
+                self.skipped.join(", ")
+            );
+        }
+        d
     }
 
     /// One `<joint>` as the bone of its child link: revolute and continuous joints are hinges
@@ -382,7 +464,12 @@ impl UrdfReader<'_, '_> {
 pub fn load_hand_urdf(path: &std::path::Path) -> Result<HandModel, FormatError> {
     let name = path.display().to_string();
     let text = crate::read_input_text(path, crate::MAX_TEXT_BYTES)?;
-    parse_hand_urdf_with(&text, &name, Sidecar::beside(path)?.as_ref())
+    parse_urdf(
+        &text,
+        &name,
+        Sidecar::beside(path)?.as_ref(),
+        MeshFiles::Disk(path),
+    )
 }
 
 /// The first `<{tag}>` child of `node`.

@@ -6,6 +6,7 @@
 #![warn(missing_docs)]
 
 mod bvh;
+mod collision_mesh;
 mod error;
 mod file_access;
 #[doc(hidden)]

@@ -209,6 +209,10 @@ pub fn run(args: &HandsArgs) -> Result<i32, CliError> {
         );
     }
     if args.file.is_some() {
+        // Where the hand came from and what its collision geoms became, a clause a line.
+        for clause in summaries[0].description.split("; ") {
+            out!("  {clause}");
+        }
         for j in &summaries[0].joints {
             let limits: Vec<String> = j
                 .limits_deg

@@ -4,6 +4,7 @@
 
 mod build;
 pub mod capsule_inertia;
+pub mod convex_capsules;
 mod description;
 mod model;
 

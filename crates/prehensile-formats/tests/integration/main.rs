@@ -3,6 +3,7 @@
 //! newcomer's `cargo test --release` build time).
 
 mod bvh_round_trip;
+mod collision_meshes;
 mod fuzz_corpus;
 mod glb_export;
 mod hand_errors;
