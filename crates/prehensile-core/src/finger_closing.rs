@@ -282,6 +282,9 @@ fn refine_contact(
     ws: &mut Workspace,
 ) {
     let [mut lo, mut hi] = bracket;
+    // The bone found touching at `hi` last; the group's last bone (the one that stopped it)
+    // to begin with.
+    let mut blocking = group.end - 1;
     let first = hand.capsule_range(group.start).start;
     let last = hand.capsule_range(finger_end - 1).end;
     for _ in 0..MAX_REFINE_STEPS {
@@ -313,10 +316,16 @@ fn refine_contact(
             break;
         }
         set_group(hand, movement, group.clone(), mid, finger_end, ws);
-        if group_touches(hand, object, group.start..finger_end, ws) {
-            hi = mid;
-        } else {
-            lo = mid;
+        // The same answer in any order; the bone that touched at `hi` first, as it most often
+        // touches at `mid` too and a touching bone ends the test.
+        let order = std::iter::once(blocking)
+            .chain((group.start..finger_end).filter(|&k| k != blocking));
+        match order.into_iter().find(|&k| bone_touches(hand, object, k, ws)) {
+            Some(k) => {
+                hi = mid;
+                blocking = k;
+            }
+            None => lo = mid,
         }
     }
     // The bones touching at the touching end are the contacts, within `tolerance` at `lo`.

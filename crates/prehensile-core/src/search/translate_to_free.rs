@@ -40,15 +40,25 @@ pub fn start_pose_touches(
     ws.counters.placements += 1;
     ws.rotations.copy_from_slice(movement.start_rotations());
     forward_kinematics(hand, root, &ws.rotations, &mut ws.world);
-    hand.capsules().iter().any(|c| {
+    // The same answer in any order; the capsule that blocked the last placement first, since
+    // it most often blocks this one too and a touching capsule ends the test.
+    let capsules = hand.capsules();
+    let first = ws.last_blocking_capsule.min(capsules.len().saturating_sub(1));
+    let order = std::iter::once(first).chain((0..capsules.len()).filter(|&k| k != first));
+    for k in order.take(capsules.len()) {
+        let c = &capsules[k];
         let w = ws.world[c.bone];
         let capsule = Capsule {
             a: w * c.a,
             b: w * c.b,
             radius: c.radius,
         };
-        object.capsule_touches(&capsule, &mut ws.counters)
-    })
+        if object.capsule_touches(&capsule, &mut ws.counters) {
+            ws.last_blocking_capsule = k;
+            return true;
+        }
+    }
+    false
 }
 
 /// How TranslateToFree advances.
