@@ -352,19 +352,29 @@ async function main() {
   async function openFiles(files) {
     let handChanged = false;
     let searchInputs = false;
-    // Several MJCF files at once: the hand is the one no other includes, the rest its includes.
+    // MJCF files: the hand is the one no other includes; the rest are its includes, and so are
+    // the mesh files its <mesh file="…"> assets name (its collision meshes), which would
+    // otherwise replace the object.
     const xml = [];
     for (const file of files) {
       if (file.name.toLowerCase().endsWith('.xml')) xml.push({ name: file.name, bytes: new Uint8Array(await file.arrayBuffer()) });
     }
-    if (xml.length > 1) {
-      const texts = xml.map((f) => new TextDecoder().decode(f.bytes));
-      const included = (f) => texts.some((t) => t.includes(`file="${f.name}"`) || t.includes(`/${f.name}"`));
+    const texts = xml.map((f) => new TextDecoder().decode(f.bytes));
+    const included = (f) => texts.some((t) => t.includes(`file="${f.name}"`) || t.includes(`/${f.name}"`));
+    const meshAssets = [];
+    for (const file of files) {
+      const ext = file.name.split('.').pop().toLowerCase();
+      if (xml.length > 0 && MESHES.includes(ext) && included(file)) {
+        meshAssets.push({ name: file.name, bytes: new Uint8Array(await file.arrayBuffer()) });
+      }
+    }
+    if (xml.length > 1 || meshAssets.length > 0) {
       const main = xml.find((f) => !included(f)) ?? xml[0];
-      sources.hand = { name: main.name, bytes: main.bytes, includes: xml.filter((f) => f !== main) };
+      sources.hand = { name: main.name, bytes: main.bytes, includes: [...xml.filter((f) => f !== main), ...meshAssets] };
       handChanged = true;
       searchInputs = true;
-      files = files.filter((f) => !f.name.toLowerCase().endsWith('.xml'));
+      const taken = new Set([...xml, ...meshAssets].map((f) => f.name));
+      files = files.filter((f) => !taken.has(f.name));
     }
     for (const file of files) {
       const ext = file.name.split('.').pop().toLowerCase();

@@ -117,6 +117,26 @@ try {
   assert.ok(shadow.joints.some((j) => j.name === 'robot0:FFJ2'), 'the Shadow hand with its includes');
   console.log(`an MJCF hand with its includes is loaded: ${shadow.hand}, ${shadow.joints.length} joints`);
   await page.screenshot({ path: `${out}/viewer-own-file.png` });
+  // The same hand whose phalanges collide as their own meshes, dropped with the STL files the
+  // model names: the meshes are the hand's (more capsules), not the object.
+  const fs = await import('node:fs');
+  let robot = fs.readFileSync(shadowDir + 'robot.xml', 'utf8');
+  for (const finger of ['ff', 'mf', 'rf', 'lf', 'th']) {
+    for (const phalanx of ['proximal', 'middle', 'distal']) {
+      robot = robot.replace(new RegExp(`<geom class="robot0:DC_Hand" name="robot0:C_${finger}${phalanx}"[^>]*></geom>`), '');
+      robot = robot.replace(`class="robot0:D_Vizual" name="robot0:V_${finger}${phalanx}"`, `class="robot0:DC_Hand" type="mesh" name="robot0:V_${finger}${phalanx}"`);
+    }
+  }
+  const objectBefore = shadow.object;
+  await page.setInputFiles('#file', [
+    ...['reach.xml', 'shared.xml', 'shared_asset.xml'].map((f) => shadowDir + f),
+    { name: 'robot.xml', mimeType: 'text/xml', buffer: Buffer.from(robot) },
+    ...['F1', 'F2', 'F3', 'TH1_z', 'TH2_z', 'TH3_z'].map((f) => `${shadowDir}stls/${f}.stl`),
+  ]);
+  await page.waitForFunction((n) => window.prehensile.state.result && window.prehensile.state.result.capsules.length > n, shadow.capsules.length, { timeout: 120_000 });
+  const meshes = await page.evaluate(() => window.prehensile.state.result);
+  assert.equal(meshes.object, objectBefore, 'the collision meshes did not replace the object');
+  console.log(`an MJCF hand dropped with its collision meshes: ${meshes.capsules.length} capsules (${shadow.capsules.length} with the file's capsules)`);
 
   // The skinned WebXR hand, from the list: drawn as its mesh, skinned by the result's bones
   // (its capsules then only on demand); and a skinned hand dropped as a .glb file.

@@ -318,9 +318,12 @@ fn refine_contact(
         set_group(hand, movement, group.clone(), mid, finger_end, ws);
         // The same answer in any order; the bone that touched at `hi` first, as it most often
         // touches at `mid` too and a touching bone ends the test.
-        let order = std::iter::once(blocking)
-            .chain((group.start..finger_end).filter(|&k| k != blocking));
-        match order.into_iter().find(|&k| bone_touches(hand, object, k, ws)) {
+        let order =
+            std::iter::once(blocking).chain((group.start..finger_end).filter(|&k| k != blocking));
+        match order
+            .into_iter()
+            .find(|&k| bone_touches(hand, object, k, ws))
+        {
             Some(k) => {
                 hi = mid;
                 blocking = k;

@@ -66,38 +66,27 @@ impl MeshFiles<'_> {
     /// The vertices of `reference`, or why they cannot be read.
     fn vertices(&self, reference: &str) -> Result<Vec<Point3>, String> {
         let file_name = reference.rsplit(['/', '\\']).next().unwrap_or(reference);
-        let bytes = match self {
+        let (bytes, path) = match self {
             MeshFiles::None => {
                 return Err("not read: the hand was given as text, without its folder".into())
             }
             MeshFiles::Disk(hand_file) => {
                 let path = crate::confined(hand_file, reference).map_err(|e| e.to_string())?;
-                crate::read_input(&path, MAX_COLLISION_MESH_BYTES).map_err(|e| e.to_string())?
+                let bytes = crate::read_input(&path, MAX_COLLISION_MESH_BYTES)
+                    .map_err(|e| e.to_string())?;
+                (bytes, Some(path))
             }
-            MeshFiles::Named(files) => files
-                .iter()
-                .find(|(n, _)| n == file_name)
-                .map(|(_, b)| b.clone())
-                .ok_or_else(|| format!("'{file_name}' was not given with the hand file"))?,
+            MeshFiles::Named(files) => (
+                files
+                    .iter()
+                    .find(|(n, _)| n == file_name)
+                    .map(|(_, b)| b.clone())
+                    .ok_or_else(|| format!("'{file_name}' was not given with the hand file"))?,
+                None,
+            ),
         };
-        let extension = Path::new(file_name)
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(str::to_ascii_lowercase)
-            .unwrap_or_default();
-        let (vertices, _) = match extension.as_str() {
-            "stl" => crate::parse_stl(&bytes, file_name),
-            "obj" => std::str::from_utf8(&bytes)
-                .map_err(|e| crate::FormatError::new(file_name, format!("not text: {e}")))
-                .and_then(|text| crate::parse_obj(text, file_name)),
-            "ply" => crate::parse_ply(&bytes, file_name),
-            _ => {
-                return Err(format!(
-                    "'.{extension}' collision meshes are not read; convert it to STL, OBJ or PLY"
-                ))
-            }
-        }
-        .map_err(|e| e.to_string())?;
+        let (vertices, _) = crate::meshes::parse_triangles(&bytes, file_name, path.as_deref())
+            .map_err(|e| e.to_string())?;
         Ok(vertices)
     }
 }

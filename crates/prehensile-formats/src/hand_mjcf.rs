@@ -794,7 +794,9 @@ impl<'d, 'i> MjcfReader<'d, 'i> {
         }
         let mesh = self.get(g, "mesh");
         let kind = self.get(g, "type").unwrap_or_else(|| "sphere".into());
-        let geom_name = g.attribute("name").unwrap_or("unnamed").to_string();
+        let geom_name = g
+            .attribute("name")
+            .map_or_else(|| format!("a geom of {}", part.name), str::to_string);
         match (kind.as_str(), mesh) {
             ("mesh", Some(mesh)) => return self.mesh_geom(g, &geom_name, &mesh, part),
             ("mesh", None) => {

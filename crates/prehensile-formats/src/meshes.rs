@@ -32,29 +32,38 @@ fn parse_mesh_in(
             format!("scale {scale} must be a positive number"),
         ));
     }
+    let (vertices, triangles) = parse_triangles(bytes, name, file)?;
+    let scaled: Vec<Point3> = vertices.iter().map(|p| p * scale).collect();
+    TriangleMesh::weld(&scaled, &triangles).map_err(|e| FormatError::caused_by(name, e))
+}
+
+/// The vertices and triangles of a mesh file's bytes (OBJ, STL, PLY or glTF/GLB, by `name`'s
+/// extension), as the file has them: not welded or checked. `file` is where a `.gltf` finds its
+/// buffers.
+pub(crate) fn parse_triangles(
+    bytes: &[u8],
+    name: &str,
+    file: Option<&Path>,
+) -> Result<(Vec<Point3>, Vec<[usize; 3]>), FormatError> {
     let ext = Path::new(name)
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase)
         .unwrap_or_default();
-    let (vertices, triangles) = match ext.as_str() {
+    match ext.as_str() {
         "obj" => {
             let text = std::str::from_utf8(bytes)
                 .map_err(|e| FormatError::new(name, format!("an OBJ file must be text: {e}")))?;
-            parse_obj(text, name)?
+            parse_obj(text, name)
         }
-        "stl" => parse_stl(bytes, name)?,
-        "ply" => parse_ply(bytes, name)?,
-        "gltf" | "glb" => crate::mesh_gltf::parse_gltf_triangles(bytes, name, file)?,
-        _ => {
-            return Err(FormatError::new(
-                name,
-                format!("unknown mesh extension '.{ext}'; use .obj, .stl, .ply, .gltf or .glb"),
-            ))
-        }
-    };
-    let scaled: Vec<Point3> = vertices.iter().map(|p| p * scale).collect();
-    TriangleMesh::weld(&scaled, &triangles).map_err(|e| FormatError::caused_by(name, e))
+        "stl" => parse_stl(bytes, name),
+        "ply" => parse_ply(bytes, name),
+        "gltf" | "glb" => crate::mesh_gltf::parse_gltf_triangles(bytes, name, file),
+        _ => Err(FormatError::new(
+            name,
+            format!("unknown mesh extension '.{ext}'; use .obj, .stl, .ply, .gltf or .glb"),
+        )),
+    }
 }
 
 /// Reads a mesh file and makes a graspable object of it, hooked at its centre of mass.

@@ -43,7 +43,9 @@ pub fn start_pose_touches(
     // The same answer in any order; the capsule that blocked the last placement first, since
     // it most often blocks this one too and a touching capsule ends the test.
     let capsules = hand.capsules();
-    let first = ws.last_blocking_capsule.min(capsules.len().saturating_sub(1));
+    let first = ws
+        .last_blocking_capsule
+        .min(capsules.len().saturating_sub(1));
     let order = std::iter::once(first).chain((0..capsules.len()).filter(|&k| k != first));
     for k in order.take(capsules.len()) {
         let c = &capsules[k];

@@ -161,7 +161,7 @@ fn collision_meshes_outside_the_folder_or_unreadable_are_skipped_and_named() {
         ("/etc/passwd".into(), "absolute path"),
         ("file:///etc/passwd".into(), "absolute path or URI"),
         ("missing.stl".into(), "cannot read"),
-        ("shell.dae".into(), "convert it to STL"),
+        ("shell.dae".into(), "unknown mesh extension '.dae'"),
         ("flat.stl".into(), "hull cannot be built"),
         ("crowd.stl".into(), "10001 vertices, more than the 10000"),
     ];
