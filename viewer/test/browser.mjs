@@ -128,10 +128,12 @@ try {
     }
   }
   const objectBefore = shadow.object;
+  // (Playwright takes paths or buffers, not both at once.)
+  const given = (name, path) => ({ name, mimeType: 'application/octet-stream', buffer: fs.readFileSync(path) });
   await page.setInputFiles('#file', [
-    ...['reach.xml', 'shared.xml', 'shared_asset.xml'].map((f) => shadowDir + f),
+    ...['reach.xml', 'shared.xml', 'shared_asset.xml'].map((f) => given(f, shadowDir + f)),
     { name: 'robot.xml', mimeType: 'text/xml', buffer: Buffer.from(robot) },
-    ...['F1', 'F2', 'F3', 'TH1_z', 'TH2_z', 'TH3_z'].map((f) => `${shadowDir}stls/${f}.stl`),
+    ...['F1', 'F2', 'F3', 'TH1_z', 'TH2_z', 'TH3_z'].map((f) => given(`${f}.stl`, `${shadowDir}stls/${f}.stl`)),
   ]);
   await page.waitForFunction((n) => window.prehensile.state.result && window.prehensile.state.result.capsules.length > n, shadow.capsules.length, { timeout: 120_000 });
   const meshes = await page.evaluate(() => window.prehensile.state.result);

@@ -29,9 +29,6 @@ pub struct Workspace {
     pub contacts: Vec<Contact>,
     /// Buffers of the grasp wrench space.
     pub wrench_space: GraspWrenchSpace,
-    /// The hand capsule that last touched the object in a start-pose test: tested first next
-    /// time, as TranslateToFree's next placement is most often stopped by the same capsule.
-    pub last_blocking_capsule: usize,
 }
 
 impl Workspace {
@@ -54,7 +51,6 @@ impl Workspace {
             counters: CollisionCounters::default(),
             contacts: Vec::with_capacity(3 * hand.capsules().len()),
             wrench_space: GraspWrenchSpace::new(),
-            last_blocking_capsule: 0,
         }
     }
 }

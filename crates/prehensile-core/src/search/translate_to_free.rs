@@ -30,22 +30,22 @@ impl TranslationFrom for Transform {
 }
 
 /// Does any capsule of the hand, in the movement's start pose at `root`, touch the object?
+/// `likely` is the capsule asked first, and becomes the one found touching: the same answer in
+/// any order, but TranslateToFree's next placement is most often blocked by the capsule that
+/// blocked the last, and a touching capsule ends the test.
 pub fn start_pose_touches(
     hand: &HandModel,
     object: &ObjectModel,
     movement: &GraspMovement,
     root: &Transform,
+    likely: &mut usize,
     ws: &mut Workspace,
 ) -> bool {
     ws.counters.placements += 1;
     ws.rotations.copy_from_slice(movement.start_rotations());
     forward_kinematics(hand, root, &ws.rotations, &mut ws.world);
-    // The same answer in any order; the capsule that blocked the last placement first, since
-    // it most often blocks this one too and a touching capsule ends the test.
     let capsules = hand.capsules();
-    let first = ws
-        .last_blocking_capsule
-        .min(capsules.len().saturating_sub(1));
+    let first = (*likely).min(capsules.len().saturating_sub(1));
     let order = std::iter::once(first).chain((0..capsules.len()).filter(|&k| k != first));
     for k in order.take(capsules.len()) {
         let c = &capsules[k];
@@ -56,7 +56,7 @@ pub fn start_pose_touches(
             radius: c.radius,
         };
         if object.capsule_touches(&capsule, &mut ws.counters) {
-            ws.last_blocking_capsule = k;
+            *likely = k;
             return true;
         }
     }
@@ -116,9 +116,12 @@ pub fn translate_to_free(
     give_up_at: f64,
     ws: &mut Workspace,
 ) -> Option<f64> {
-    let touches = |offset: f64, ws: &mut Workspace| {
+    // The capsule that blocked the last placement, asked first at the next; kept within this
+    // call, so that an evaluation's queries do not depend on the evaluations before it.
+    let mut likely = 0;
+    let mut touches = |offset: f64, ws: &mut Workspace| {
         let root = hand_root(hook, movement, offset);
-        start_pose_touches(hand, object, movement, &root, ws)
+        start_pose_touches(hand, object, movement, &root, &mut likely, ws)
     };
     let mut offset = 0.0;
     let mut last_touching = None;
