@@ -352,15 +352,15 @@ async function main() {
   async function openFiles(files) {
     let handChanged = false;
     let searchInputs = false;
-    // MJCF files: the hand is the one no other includes; the rest are its includes, and so are
-    // the mesh files its <mesh file="…"> assets name (its collision meshes), which would
-    // otherwise replace the object.
+    // MJCF and URDF files: the hand is the one no other includes; the rest are its includes,
+    // and so are the mesh files it names (an MJCF's <mesh file="…">, a URDF's collision
+    // <mesh filename="…">), which would otherwise replace the object.
     const xml = [];
     for (const file of files) {
-      if (file.name.toLowerCase().endsWith('.xml')) xml.push({ name: file.name, bytes: new Uint8Array(await file.arrayBuffer()) });
+      if (/\.(xml|urdf)$/i.test(file.name)) xml.push({ name: file.name, bytes: new Uint8Array(await file.arrayBuffer()) });
     }
     const texts = xml.map((f) => new TextDecoder().decode(f.bytes));
-    const included = (f) => texts.some((t) => t.includes(`file="${f.name}"`) || t.includes(`/${f.name}"`));
+    const included = (f) => texts.some((t) => t.includes(`file="${f.name}"`) || t.includes(`filename="${f.name}"`) || t.includes(`/${f.name}"`));
     const meshAssets = [];
     for (const file of files) {
       const ext = file.name.split('.').pop().toLowerCase();
@@ -369,7 +369,7 @@ async function main() {
       }
     }
     if (xml.length > 1 || meshAssets.length > 0) {
-      const main = xml.find((f) => !included(f)) ?? xml[0];
+      const main = xml.find((f) => !included(f) && f.name.toLowerCase().endsWith('.urdf')) ?? xml.find((f) => !included(f)) ?? xml[0];
       sources.hand = { name: main.name, bytes: main.bytes, includes: [...xml.filter((f) => f !== main), ...meshAssets] };
       handChanged = true;
       searchInputs = true;

@@ -139,6 +139,23 @@ try {
   const meshes = await page.evaluate(() => window.prehensile.state.result);
   assert.equal(meshes.object, objectBefore, 'the collision meshes did not replace the object');
   console.log(`an MJCF hand dropped with its collision meshes: ${meshes.capsules.length} capsules (${shadow.capsules.length} with the file's capsules)`);
+  // A URDF hand dropped with the collision mesh it names (by package:// path): the Shadow's
+  // proximal phalanx mesh as the index's proximal link.
+  const urdfDir = new URL('../../assets/hands/urdf/', import.meta.url).pathname;
+  const urdfText = fs.readFileSync(urdfDir + 'hand_tree_public.urdf', 'utf8');
+  await page.setInputFiles('#file', given('hand_tree_public.urdf', urdfDir + 'hand_tree_public.urdf'));
+  await page.waitForFunction(() => window.prehensile.state.result?.hand === 'hand_tree_public' || window.prehensile.state.result?.joints?.some((j) => j.name === 'index_proximal_flexion'), null, { timeout: 120_000 });
+  const plainUrdf = await page.evaluate(() => window.prehensile.state.result.capsules.length);
+  const withMesh = urdfText.replace('<link name="index_proximal">',
+    '<link name="index_proximal"><collision><geometry><mesh filename="package://demo/meshes/F3.stl" scale="0.001 0.001 0.001"/></geometry></collision>');
+  await page.setInputFiles('#file', [
+    { name: 'meshy.urdf', mimeType: 'text/xml', buffer: Buffer.from(withMesh) },
+    given('F3.stl', `${shadowDir}stls/F3.stl`),
+  ]);
+  await page.waitForFunction((n) => window.prehensile.state.result?.joints?.some((j) => j.name === 'index_proximal_flexion') && window.prehensile.state.result.capsules.length > n, plainUrdf, { timeout: 120_000 });
+  const urdfMeshes = await page.evaluate(() => window.prehensile.state.result);
+  assert.equal(urdfMeshes.object, objectBefore, 'the URDF\'s collision mesh did not replace the object');
+  console.log(`a URDF hand dropped with its collision mesh: ${urdfMeshes.capsules.length} capsules (${plainUrdf} without it)`);
 
   // The skinned WebXR hand, from the list: drawn as its mesh, skinned by the result's bones
   // (its capsules then only on demand); and a skinned hand dropped as a .glb file.

@@ -460,6 +460,22 @@ impl UrdfReader<'_, '_> {
     }
 }
 
+/// Reads a URDF hand from named files held in memory (files dropped on a web page, which come
+/// without their folders): `main` is the hand's file, and a collision `<mesh filename=…>` names
+/// another of `files` by its file name.
+pub fn parse_hand_urdf_files(
+    main: &str,
+    files: &[(String, Vec<u8>)],
+) -> Result<HandModel, FormatError> {
+    let (_, bytes) = files
+        .iter()
+        .find(|(n, _)| n == main)
+        .ok_or_else(|| FormatError::new(main, "the hand file is not among the files given"))?;
+    let text = String::from_utf8(bytes.clone())
+        .map_err(|e| FormatError::new(main, format!("the file is not UTF-8 text: {e}")))?;
+    parse_urdf(&text, main, None, MeshFiles::Named(files))
+}
+
 /// Reads a URDF hand file.
 pub fn load_hand_urdf(path: &std::path::Path) -> Result<HandModel, FormatError> {
     let name = path.display().to_string();

@@ -33,7 +33,7 @@ pub use hand_gltf::{load_hand_gltf, load_hand_gltf_skinned, parse_hand_gltf_skin
 pub use hand_import::Sidecar;
 pub use hand_mjcf::{load_hand_mjcf, parse_hand_mjcf, parse_hand_mjcf_files, parse_hand_mjcf_with};
 pub use hand_toml::{builtin_hand, load_hand, parse_hand, parse_hand_toml, BUILTIN_HANDS};
-pub use hand_urdf::{load_hand_urdf, parse_hand_urdf, parse_hand_urdf_with};
+pub use hand_urdf::{load_hand_urdf, parse_hand_urdf, parse_hand_urdf_files, parse_hand_urdf_with};
 pub use mesh_obj::parse_obj;
 pub use mesh_ply::parse_ply;
 pub use mesh_stl::parse_stl;

@@ -107,9 +107,10 @@ impl Session {
     /// A session from what the user chose or dropped: a built-in hand by name, or a hand file's
     /// bytes (`hand_bytes` non-empty; `.toml`, `.urdf`, MJCF `.xml`, skinned `.glb` named by
     /// `hand`); likewise
-    /// the object (`.obj`, `.stl`, `.ply`, `.glb`). An MJCF hand's `<include>` files, dropped
-    /// with it, come as `include_names` (one per line) and their bytes one after another in
-    /// `include_bytes`, `include_lengths` long each. Errors carry the CLI's messages.
+    /// the object (`.obj`, `.stl`, `.ply`, `.glb`). An MJCF hand's `<include>` files and an
+    /// MJCF or URDF hand's collision mesh files, dropped with it, come as `include_names` (one
+    /// per line) and their bytes one after another in `include_bytes`, `include_lengths` long
+    /// each. Errors carry the CLI's messages.
     #[allow(clippy::too_many_arguments)] // one call from JavaScript, every argument a plain value
     pub fn open(
         hand: &str,
@@ -152,10 +153,12 @@ impl Session {
                 ));
                 at += len as usize;
             }
-            (
-                prehensile_formats::parse_hand_mjcf_files(hand, &files).map_err(js)?,
-                None,
-            )
+            let parsed = if hand.to_ascii_lowercase().ends_with(".urdf") {
+                prehensile_formats::parse_hand_urdf_files(hand, &files)
+            } else {
+                prehensile_formats::parse_hand_mjcf_files(hand, &files)
+            };
+            (parsed.map_err(js)?, None)
         };
         let object = if object_bytes.is_empty() {
             object_named(object)?

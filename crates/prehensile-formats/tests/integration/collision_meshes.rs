@@ -7,7 +7,9 @@ use prehensile_core::math::{Point3, Vec3};
 use prehensile_core::search::{GraspPlanner, GraspResult, SearchParams};
 use prehensile_core::shapes::builtin_object;
 use prehensile_core::{HandModel, ObjectModel, Workspace};
-use prehensile_formats::{load_hand, parse_hand_mjcf_files, parse_hand_urdf};
+use prehensile_formats::{
+    load_hand, parse_hand_mjcf_files, parse_hand_urdf, parse_hand_urdf_files,
+};
 
 fn assets(path: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -112,6 +114,16 @@ fn a_urdf_collision_mesh_becomes_capsules_inside_its_hull() {
         description.contains("meshes as capsules: proximal_shell (1 capsules"),
         "{description}"
     );
+    // Dropped on a web page: the mesh found by its file name among the files given.
+    let files = vec![
+        ("hand.urdf".to_string(), std::fs::read(&file).unwrap()),
+        (
+            "proximal.stl".to_string(),
+            std::fs::read(dir.join("meshes/proximal.stl")).unwrap(),
+        ),
+    ];
+    let from_memory = parse_hand_urdf_files("hand.urdf", &files).unwrap();
+    assert_eq!(from_memory.capsules(), hand.capsules());
     // The same text without its folder: the mesh is named as skipped, and the link gets the
     // capsule guessed from its mass, as before.
     let text_only = parse_hand_urdf(
