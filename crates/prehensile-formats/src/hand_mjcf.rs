@@ -917,8 +917,13 @@ impl<'d, 'i> MjcfReader<'d, 'i> {
                 self.error(
                     body,
                     format!(
-                        "body '{}' ends a finger but has no tip site or collision geom",
-                        part.name
+                        "body '{}' ends a finger but has no tip site or collision geom{}",
+                        part.name,
+                        if self.skipped.is_empty() {
+                            String::new()
+                        } else {
+                            format!(" (skipped: {})", self.skipped.join(", "))
+                        }
                     ),
                 )
             })

@@ -367,13 +367,7 @@ fn drop_contained(capsules: &mut Vec<(Point3, Point3, f64)>) {
 
 /// Distance from `p` to the segment `a`–`b`.
 fn distance_to_segment(p: &Point3, a: &Point3, b: &Point3) -> f64 {
-    let ab = b - a;
-    let t = if ab.norm_squared() > 0.0 {
-        ((p - a).dot(&ab) / ab.norm_squared()).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (p - (a + ab * t)).norm()
+    crate::geometry::distance_squared_segment_segment(p, p, a, b).sqrt()
 }
 
 #[cfg(test)]

@@ -394,3 +394,35 @@ fn the_shadow_hand_colliding_with_its_own_phalanx_meshes_is_near_its_capsules_an
     let result = GraspResult::from_planner(&planner, &mut Workspace::new(&meshes));
     assert!(result.valid, "{:?}", result.invalid_reason);
 }
+
+#[test]
+fn a_fingertip_whose_only_collider_is_an_unreadable_mesh_says_why() {
+    // Absurd, flat and too few vertices: the hand is refused, naming what was skipped.
+    let hand = |vertex: &str| {
+        format!(
+            r#"<mujoco><asset><mesh name="pad" vertex="{vertex}"/></asset><worldbody><body name="palm"><geom type="box" size="0.03 0.01 0.04"/>
+<body name="thumb" pos="-0.03 0 0.04"><joint name="t" axis="1 0 0" range="0 1.5"/><geom type="mesh" mesh="pad" name="thumb_pad"/></body>
+<body name="index" pos="0.03 0 0.04"><joint name="i" axis="1 0 0" range="0 1.5"/><geom type="capsule" fromto="0 0 0 0 0 0.03" size="0.006"/></body>
+</body></worldbody></mujoco>"#
+        )
+    };
+    for (vertex, why) in [
+        (
+            "1e300 0 0 -1e300 0 0 0 1e300 0 0 0 1e300 0 0 -1e300",
+            "hull cannot be built",
+        ),
+        (
+            "0 0 0 0.01 0 0 0 0.01 0 0.01 0.01 0",
+            "hull cannot be built",
+        ),
+        ("0 0 0 1 0 0", "hull cannot be built"),
+    ] {
+        let e = prehensile_formats::parse_hand_mjcf(&hand(vertex), "h.xml").unwrap_err();
+        assert!(
+            e.reason.contains("no tip site or collision geom")
+                && e.reason.contains("thumb_pad (")
+                && e.reason.contains(why),
+            "{vertex}: {e}"
+        );
+    }
+}
