@@ -8,7 +8,8 @@
 //! centroid of the non-thumb fingers' first joints and L their mean length:
 //! - **power**: the grasp center C = K + 0.45·L·y; each finger's tip goes to C shifted across by
 //!   the finger's own x offset (the fingers curl side by side around an object at C), the thumb's
-//!   tip to C itself, from the other side;
+//!   tip toward a point far out of the palm beyond C (`POWER_THUMB_AIM`), so that it opposes the
+//!   fingers from the near side of the object, past its equator;
 //! - **precision**: the pinch point P = (index's first joint) + 0.5·L·y + 0.45·L·z; the thumb's
 //!   and the index's tips both go to P (their pads meet, so an object between them is squeezed
 //!   from opposite sides), the other fingers follow the index side by side. Contact fingers:
@@ -31,6 +32,15 @@ const OVERLAP_WEIGHT: f64 = 10.0;
 const MIN_STEP: f64 = 1e-4;
 /// Largest number of sweeps over a finger's joints.
 const MAX_SWEEPS: usize = 400;
+/// Where the power movement's thumb tip aims, from the grasp center, in mean finger lengths:
+/// across toward the fingers' middle line, out of the palm, along the fingers (negative: toward
+/// the wrist). Far out of the palm, so the thumb swings out of the palm plane and comes down the
+/// near side of an object, past the equator of one as wide as the hand, opposite the fingers
+/// curled over its far side. Aimed at the grasp center itself, as the fingers are, the thumb
+/// folded under the knuckles and met such an object at its equator: the Shadow hand's sphere
+/// grasps then had every contact normal within 69–73° of one direction (docs/QUALITY.md,
+/// session 26).
+const POWER_THUMB_AIM: [f64; 3] = [0.15, 1.5, -0.3];
 
 /// The thumb: the finger whose name contains "thumb" (or is "th"); `None` if there is none.
 pub fn thumb(hand: &HandModel) -> Option<usize> {
@@ -80,10 +90,15 @@ pub fn add_derived_movements(hand: &mut HandModel) {
 pub fn derive_power(hand: &HandModel) -> Option<GraspMovement> {
     let frame = PalmFrame::new(hand)?;
     let center = frame.knuckles + Vec3::y() * (0.45 * frame.length);
+    let [across, out, along] = POWER_THUMB_AIM;
+    let toward_middle = (frame.knuckles.x - frame.base(frame.thumb).x).signum();
+    let thumb_aim = center
+        + (Vec3::x() * (toward_middle * across) + Vec3::y() * out + Vec3::z() * along)
+            * frame.length;
     let targets: Vec<Point3> = (0..hand.fingers().len())
         .map(|f| {
             if f == frame.thumb {
-                center
+                thumb_aim
             } else {
                 center + Vec3::x() * frame.base(f).x - Vec3::x() * frame.knuckles.x
             }

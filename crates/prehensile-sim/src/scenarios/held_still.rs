@@ -18,8 +18,8 @@ use crate::SimError;
 /// replaced by one pressing the object into the palm), returned 50 ms after the object was let
 /// go into the closed hand. The hand closes on the object as the search under the thesis's rule
 /// finds it (§6.4.1): a timing scene needs fingers pressing on the object, not a grasp that holds
-/// in every direction, and the Shadow hand has no valid power grasp of the built-in sphere under
-/// the default rule (its contacts all push one way).
+/// in every direction, and the thesis's rule finds one for any hand and object that the stability
+/// rules may refuse.
 pub fn held_still(
     hand: &HandModel,
     object: &ObjectModel,
