@@ -1,9 +1,9 @@
 """Survey of grasp validity and stability across hands, objects, movements and seeds.
 
-Runs `prehensile grasp` for every combination under both validity rules (`holds`, the default, and
-`thesis`) and reports, per rule: how many searches return a valid grasp, how many of those are in
-force closure (from the result's own `stability`, computed with the full 8-edge cone and Qhull-
-checked hull), and how many have every contact normal on one side of a plane (a hand that only
+Runs `prehensile grasp` for every combination under each validity rule asked for (default: `holds`,
+the default rule, `strict` and `thesis`) and reports, per rule: how many searches return a valid
+grasp, how many of those are in force closure (from the result's own `stability`, computed with
+the full 8-edge cone and Qhull-checked hull), and how many have every contact normal on one side of a plane (a hand that only
 pushes the object one way: found by a small linear program with scipy), and how many of the
 valid grasps the rapier hold test (`--hold`: squeeze with grip strength 0.5, then gravity along each
 axis direction for 1 s) holds in at least 5 of 6 directions and against gravity along -z.
@@ -11,7 +11,9 @@ axis direction for 1 s) holds in at least 5 of 6 directions and against gravity 
 Run from the repository root after `cargo build --release -p prehensile-cli`:
     pip install scipy numpy
     python3 tools/quality/grasp_survey.py > /tmp/survey.txt
+    python3 tools/quality/grasp_survey.py --rules holds strict   # only these rules
 """
+import argparse
 import itertools
 import json
 import subprocess
@@ -53,8 +55,12 @@ def run(hand, obj, movement, seed, rule):
 
 
 def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--rules", nargs="+", default=["holds", "strict", "thesis"],
+                    choices=["holds", "strict", "thesis"])
+    args = ap.parse_args()
     rows = {}
-    for rule in ["holds", "thesis"]:
+    for rule in args.rules:
         stats = {"searches": 0, "valid": 0, "fc": 0, "one_sided": 0, "eps": [], "ms": [],
                  "held5": 0, "held_gravity": 0, "valid_ms": []}
         per_hand = {}

@@ -73,7 +73,7 @@ impl Default for BatchOptions {
             scale: 1.0,
             weld: None,
             up: 'z',
-            validity: ValidityRule::Holds,
+            validity: ValidityRule::default(),
             friction: 0.5,
         }
     }

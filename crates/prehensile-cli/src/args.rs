@@ -106,8 +106,8 @@ pub struct BatchArgs {
     /// world's friction; MuJoCo holds fewer grasps searched with the full friction (docs/QUALITY.md).
     #[arg(long, default_value_t = 0.5)]
     pub friction: f64,
-    /// Which grasps are valid: holds, strict or thesis.
-    #[arg(long, default_value = "holds", value_parser = parse_validity)]
+    /// Which grasps are valid: holds, strict or thesis (see `prehensile grasp --help`).
+    #[arg(long, default_value_t = ValidityRule::default())]
     pub validity: ValidityRule,
     /// Worker threads (default: one per core).
     #[arg(long)]
@@ -286,10 +286,12 @@ pub struct GraspArgs {
     /// normals must spread (78° at 0.5, 59.6° at 1).
     #[arg(long, default_value_t = 0.5)]
     pub friction: f64,
-    /// Which grasps are valid: `holds` (force closure; a precision grasp's thumb and index pads
-    /// opposed), `strict` (`holds`, and the contact normals never all in one open half-space,
-    /// whatever the friction) or `thesis` (no penetration and enough fingers touching, §6.4.1).
-    #[arg(long, default_value = "holds", value_parser = parse_validity)]
+    /// Which grasps are valid: `holds` (force closure, the contact normals not all within 78° of
+    /// one direction at friction 0.5, 59.6° at 1, and a precision grasp's thumb and index pads
+    /// opposed), `strict` (`holds`, and a power grasp's normals never all in one open
+    /// half-space, whatever the friction) or `thesis` (no penetration and enough fingers
+    /// touching, §6.4.1).
+    #[arg(long, default_value_t = ValidityRule::default())]
     pub validity: ValidityRule,
     /// Stop after this many milliseconds (default: run until converged).
     #[arg(long)]
@@ -348,16 +350,6 @@ pub fn parse_weights(s: &str) -> Result<[f64; 5], String> {
         return Err(format!("'{s}': weights cannot be negative"));
     }
     Ok(w)
-}
-
-/// Parses `--validity`.
-pub fn parse_validity(s: &str) -> Result<ValidityRule, String> {
-    match s {
-        "holds" => Ok(ValidityRule::Holds),
-        "thesis" => Ok(ValidityRule::Thesis),
-        "strict" => Ok(ValidityRule::Strict),
-        other => Err(format!("'{other}': use holds, strict or thesis")),
-    }
 }
 
 /// Parses `N` comma-separated finite numbers.

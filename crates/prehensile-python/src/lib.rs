@@ -58,14 +58,8 @@ fn up_axis(up: &str) -> PyResult<Vec3> {
 }
 
 fn validity_rule(rule: &str) -> PyResult<ValidityRule> {
-    match rule {
-        "holds" => Ok(ValidityRule::Holds),
-        "thesis" => Ok(ValidityRule::Thesis),
-        "strict" => Ok(ValidityRule::Strict),
-        other => Err(error(format!(
-            "validity='{other}': use 'holds', 'strict' or 'thesis'"
-        ))),
-    }
+    rule.parse()
+        .map_err(|e: String| error(format!("validity={e}")))
 }
 
 fn units_factor(units: &str) -> PyResult<f64> {

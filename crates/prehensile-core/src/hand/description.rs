@@ -27,10 +27,14 @@ pub struct HandDescription {
 
 impl HandDescription {
     /// The mirror image across the hand's yz-plane (x negated): a left hand from a right one and
-    /// back. Bone frames are derived again from the mirrored positions, so flexion still curls
-    /// toward the palm; abduction turns the mirrored way.
+    /// back, in every pose. Bone frames are derived again from the mirrored positions (still
+    /// right-handed: the bone's x axis is the mirror of the original's, negated), so flexion
+    /// about −x still curls toward the palm, while a turn about the bone's y or z is the mirror
+    /// image of the opposite turn: abduction angles and limits, and a ball joint's y and z
+    /// components, change sign.
     pub fn mirrored(&self, name: &str) -> Self {
         let flip = |p: [f64; 3]| [-p[0], p[1], p[2]];
+        let negated = |[lo, hi]: [f64; 2]| [-hi, -lo];
         let mut out = self.clone();
         out.name = name.to_string();
         out.description = format!("mirror image of {}: {}", self.name, self.description);
@@ -38,9 +42,37 @@ impl HandDescription {
             b.origin = flip(b.origin);
             b.tip = b.tip.map(flip);
             b.flexes_toward = b.flexes_toward.map(flip);
+            match &mut b.joint {
+                JointDescription::TwoAxis { abduction, .. } => *abduction = negated(*abduction),
+                JointDescription::Ball { limits } => {
+                    limits[1] = negated(limits[1]);
+                    limits[2] = negated(limits[2]);
+                }
+                JointDescription::Fixed | JointDescription::Hinge { .. } => {}
+            }
         }
+        // Degrees of freedom whose angle changes sign, by bone.
+        let turned: std::collections::HashMap<&str, &[usize]> = self
+            .bones
+            .iter()
+            .map(|b| {
+                let dofs: &[usize] = match b.joint {
+                    JointDescription::TwoAxis { .. } => &[1],
+                    JointDescription::Ball { .. } => &[1, 2],
+                    JointDescription::Fixed | JointDescription::Hinge { .. } => &[],
+                };
+                (b.name.as_str(), dofs)
+            })
+            .collect();
         for m in &mut out.movements {
             m.grasp_center = m.grasp_center.map(flip);
+            for (bone, angles) in m.start.iter_mut().chain(m.end.iter_mut()) {
+                for &k in turned.get(bone.as_str()).copied().unwrap_or_default() {
+                    if let Some(a) = angles.get_mut(k) {
+                        *a = -*a;
+                    }
+                }
+            }
         }
         out
     }

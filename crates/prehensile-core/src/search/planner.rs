@@ -71,7 +71,8 @@ pub struct SearchParams {
     /// global one, or the one the call runs in). 1 evaluates on the calling thread, as a game
     /// loop or the browser needs.
     pub threads: usize,
-    /// Which grasps are valid: ones that hold (default) or the thesis's rules.
+    /// Which grasps are valid: ones that hold (default), wraps whose contacts push from every
+    /// side, or the thesis's rules.
     pub validity: ValidityRule,
     /// How contacts resist forces (friction, friction cone, soft pads).
     pub contact_model: ContactModel,
@@ -105,7 +106,7 @@ impl Default for SearchParams {
             max_steps: 500,
             min_fingers: 3,
             threads: 1,
-            validity: ValidityRule::Holds,
+            validity: ValidityRule::default(),
             contact_model: ContactModel::default(),
             lazy_stability: true,
         }

@@ -53,25 +53,71 @@ pub const STABILITY_WEIGHT: f64 = 0.0;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum ValidityRule {
-    /// The grasp must hold: no penetration, the thesis's finger counts, force closure with the
-    /// contact model's friction, contacts that push from more than one side (their normals not
-    /// all within [`one_sided_cap`] of one direction), and for a movement with contact fingers
-    /// the first two (thumb and index) pads opposed by at least [`OPPOSITION_ANGLE`].
+    /// The default: the grasp must hold. No penetration, the thesis's finger counts, force
+    /// closure with the contact model's friction, contacts that push from more than one side
+    /// (their normals not all within [`one_sided_cap`] of one direction, 78° at μ = 0.5), and
+    /// for a movement with contact fingers the first two (thumb and index) pads opposed by at
+    /// least [`OPPOSITION_ANGLE`].
     #[default]
     Holds,
     /// The thesis's rules only (§6.4.1): no penetration and enough fingers touching.
     Thesis,
-    /// [`ValidityRule::Holds`] with the one-sided test at 90° whatever the friction: no grasp
-    /// whose contact normals all lie in one open half-space. Issue 13's literal reading of "all
-    /// contact normals on one side"; it also refuses grasps whose friction cones overlap enough
-    /// to hold (docs/QUALITY.md measures what it costs).
+    /// [`ValidityRule::Holds`], and a grasp without contact fingers (a power grasp, `close`: a
+    /// wrap) has its contact normals in no open half-space, however much friction could hold it:
+    /// issue 13's "0 grasps with all contact normals on one side". A pinch (a movement with
+    /// contact fingers) keeps the friction-aware test: two pads 150° apart share an open
+    /// half-space, and their opposition is the pinch's own test of sides. It refuses grasps
+    /// that hold, such as a three-fingered claw whose tips meet a ball 3–5° above its equator,
+    /// so it is not the default (docs/QUALITY.md, session 26).
     Strict,
 }
 
 impl ValidityRule {
+    /// Every rule, by [`ValidityRule::name`].
+    pub const ALL: [ValidityRule; 3] = [Self::Holds, Self::Strict, Self::Thesis];
+
     /// Does the rule judge a pose's contacts (force closure, sides, opposition)?
     pub fn judges_contacts(self) -> bool {
         self != ValidityRule::Thesis
+    }
+
+    /// The rule's name in options and files: `holds`, `strict` or `thesis`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Holds => "holds",
+            Self::Strict => "strict",
+            Self::Thesis => "thesis",
+        }
+    }
+
+    /// The narrowest cone of contact normals (half-angle, radians) the rule accepts at
+    /// `friction` for a wrap or, with `pinch`, for a movement with contact fingers; `None` for
+    /// the thesis's rule, which does not look at normals.
+    pub fn needed_normal_cap(self, friction: f64, pinch: bool) -> Option<f64> {
+        match self {
+            // No open half-space: the widest cap [`one_sided_cap`] asks for, at any friction.
+            Self::Strict if !pinch => Some(std::f64::consts::FRAC_PI_2),
+            Self::Strict | Self::Holds => Some(one_sided_cap(friction)),
+            Self::Thesis => None,
+        }
+    }
+}
+
+impl std::fmt::Display for ValidityRule {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for ValidityRule {
+    type Err = String;
+
+    /// Parses [`ValidityRule::name`]; the error lists the names.
+    fn from_str(s: &str) -> Result<Self, String> {
+        Self::ALL
+            .into_iter()
+            .find(|r| r.name() == s)
+            .ok_or_else(|| format!("'{s}': use holds, strict or thesis"))
     }
 }
 
@@ -199,9 +245,12 @@ pub enum Invalid {
     OneSided {
         /// Half-angle of the narrowest cone holding every contact normal, degrees.
         cap_degrees: f64,
-        /// The half-angle the rule asks for at the search's friction, degrees: [`one_sided_cap`],
-        /// or 90° under [`ValidityRule::Strict`].
+        /// The half-angle the rule asks for at the search's friction, degrees:
+        /// [`ValidityRule::needed_normal_cap`].
         needed_degrees: f64,
+        /// Would [`ValidityRule::Holds`] accept the cone at this friction (friction holds the
+        /// grasp on paper)?
+        holds_accepts: bool,
     },
     /// The thumb's and the index's pads do not push against each other.
     NoOpposition {
@@ -240,12 +289,22 @@ impl std::fmt::Display for Invalid {
             Invalid::OneSided {
                 cap_degrees,
                 needed_degrees,
-            } => write!(
-                f,
-                "every contact pushes the object one way (all normals within {cap_degrees:.0}° of one \
-                 direction, {needed_degrees:.0}° needed at this friction): a squeeze would push it \
-                 out of the hand"
-            ),
+                holds_accepts,
+            } => {
+                write!(
+                    f,
+                    "every contact pushes the object one way (all normals within {cap_degrees:.0}° of \
+                     one direction, {needed_degrees:.0}° needed at this friction): a squeeze would \
+                     push it out of the hand"
+                )?;
+                if *holds_accepts {
+                    write!(
+                        f,
+                        "; friction could hold it, and the `holds` validity rule accepts it"
+                    )?;
+                }
+                Ok(())
+            }
             Invalid::NoOpposition { angle_degrees } => write!(
                 f,
                 "the thumb and index pads are {angle_degrees:.0}° apart, {:.0}° needed to pinch",
@@ -452,14 +511,17 @@ impl EvaluationContext<'_> {
             });
         }
         let cap = narrowest_normal_cap(ws.contacts.iter().map(|c| c.normal));
-        let needed = match self.validity {
-            ValidityRule::Strict => std::f64::consts::FRAC_PI_2,
-            _ => one_sided_cap(self.contact_model.friction),
-        };
+        let friction = self.contact_model.friction;
+        let pinch = !self.movement.contact_fingers().is_empty();
+        let needed = self
+            .validity
+            .needed_normal_cap(friction, pinch)
+            .expect("judged only under a rule that looks at normals");
         if cap < needed {
             return Err(Invalid::OneSided {
                 cap_degrees: cap.to_degrees(),
                 needed_degrees: needed.to_degrees(),
+                holds_accepts: cap >= one_sided_cap(friction),
             });
         }
         if let [thumb, index, ..] = *self.movement.contact_fingers() {
@@ -589,6 +651,29 @@ mod tests {
             let d = degrees(k as f64 * 0.1);
             assert!(d <= last, "μ = {}: {d}° after {last}°", k as f64 * 0.1);
             last = d;
+        }
+    }
+
+    #[test]
+    fn the_rules_parse_their_names_and_strict_spares_pinches() {
+        for rule in ValidityRule::ALL {
+            assert_eq!(rule.name().parse::<ValidityRule>(), Ok(rule));
+            assert_eq!(rule.to_string(), rule.name());
+        }
+        let e = "loose".parse::<ValidityRule>().unwrap_err();
+        assert!(e.contains("holds, strict or thesis"), "{e}");
+        assert_eq!(ValidityRule::default(), ValidityRule::Holds);
+
+        let deg = |rule: ValidityRule, mu: f64, pinch: bool| {
+            rule.needed_normal_cap(mu, pinch).map(f64::to_degrees)
+        };
+        for mu in [0.0, 0.25, 0.5, 1.0, 3.0] {
+            let holds = one_sided_cap(mu).to_degrees();
+            assert_eq!(deg(ValidityRule::Holds, mu, false), Some(holds));
+            assert_eq!(deg(ValidityRule::Holds, mu, true), Some(holds));
+            assert_eq!(deg(ValidityRule::Strict, mu, false), Some(90.0));
+            assert_eq!(deg(ValidityRule::Strict, mu, true), Some(holds));
+            assert_eq!(deg(ValidityRule::Thesis, mu, false), None);
         }
     }
 }

@@ -715,6 +715,30 @@ fn the_mirrored_human_hand_is_a_left_hand_that_grasps() {
     };
     assert!(thumb_x(&right) < 0.0 && thumb_x(&left) > 0.0);
     assert!(left.is_left() && !right.is_left());
+    // Every movement's poses are mirror images, joint by joint and tip by tip, all the way
+    // through: abduction (the thumb's turn toward the palm's heel at the power grasp's end)
+    // turns the mirrored way.
+    let mirror = |p: Point3| Point3::new(-p.x, p.y, p.z);
+    for m_right in right.movements() {
+        let m_left = left.movement(m_right.name()).unwrap();
+        for f in [0.0, 0.5, 1.0] {
+            let points = |h: &HandModel, m: &prehensile_core::GraspMovement| {
+                let r: Vec<_> = (0..h.bones().len()).map(|b| m.rotation_at(b, f)).collect();
+                let world = h.pose_transforms(&prehensile_core::math::Transform::identity(), &r);
+                let joints = world.iter().map(|t| Point3::from(t.translation.vector));
+                let tips = h
+                    .fingers()
+                    .iter()
+                    .map(|fi| world[*fi.bones.last().unwrap()] * fi.tip);
+                joints.chain(tips).collect::<Vec<_>>()
+            };
+            let (r, l) = (points(&right, m_right), points(&left, m_left));
+            for (k, (r, l)) in r.iter().zip(&l).enumerate() {
+                let gap = (mirror(*r) - l).norm();
+                assert!(gap < 1e-12, "{} at {f}: point {k} {gap} m", m_right.name());
+            }
+        }
+    }
     // The default shoulder is mirrored with the hand: beside the hand's own side.
     let hook = Point3::origin();
     let s_right = prehensile_core::search::default_shoulder(&right, &hook, &Vec3::z());
@@ -865,42 +889,54 @@ fn lazy_stability_takes_the_same_path_with_fewer_tests() {
 
 #[test]
 fn the_strict_rule_refuses_every_grasp_whose_normals_share_an_open_half_space() {
-    // Under the default rule the human hand's power grasp of the built-in sphere (a hand over
-    // the ball, its fingers down to the equator) is valid although its normals lie in one open
-    // half-space: friction 0.5 holds it. `--validity strict` refuses it; what it accepts (the
-    // torus here) has normals in no open half-space.
-    let hand = common::hand("human");
-    let strict = |object: &ObjectModel| {
-        let m = hand.movement("power").unwrap();
+    // Under the default rule some accepted power grasps have all their normals in one open
+    // half-space (friction 0.5 holds them on paper): the human hand's torus grasp of seed 2
+    // (within 82.5° of one direction), the four-fingered cartoon hand's sphere grasp (the hand
+    // over the ball, its fingertips down to the equator; 78.7°). `--validity strict` finds the
+    // human hand another torus grasp whose normals share no open half-space, and refuses the
+    // cartoon hand's sphere, saying why and that `holds` would take it. A pinch keeps the
+    // friction-aware test: the human hand's wide pinch of the sphere is valid under `strict`
+    // with both pads' normals (and the others') in one open half-space.
+    let strict = |hand: &HandModel, object: &ObjectModel, movement: &str, seed: u64| {
+        let m = hand.movement(movement).unwrap();
         let shoulder = object.center_of_mass() + Vec3::from(SHOULDERS[0]);
         let params = SearchParams {
             validity: ValidityRule::Strict,
+            seed,
             ..Default::default()
         };
-        let mut planner = GraspPlanner::new(&hand, object, m, shoulder, params).unwrap();
+        let mut planner = GraspPlanner::new(hand, object, m, shoulder, params).unwrap();
         planner.run_to_end();
-        GraspResult::from_planner(&planner, &mut Workspace::new(&hand))
+        GraspResult::from_planner(&planner, &mut Workspace::new(hand))
     };
-    let sphere = common::object("sphere");
-    let default = search(&hand, &sphere, "power", SHOULDERS[0], 1);
-    assert!(default.valid, "{:?}", default.invalid_reason);
-    let cap = sampled_normal_cap(&default);
-    assert!(cap < 89.0, "the default grasp's normals spread {cap:.1}°");
-    let refused = strict(&sphere);
-    assert!(!refused.valid);
-    assert!(
-        refused
-            .invalid_reason
-            .as_deref()
-            .is_some_and(|r| r.contains("90° needed")),
-        "{:?}",
-        refused.invalid_reason
-    );
-    let torus = strict(&common::object("torus"));
-    assert!(torus.valid, "{:?}", torus.invalid_reason);
-    let cap = sampled_normal_cap(&torus);
+    let (human, cartoon) = (common::hand("human"), common::hand("cartoon4"));
+    let (torus, sphere) = (common::object("torus"), common::object("sphere"));
+    for (hand, object, seed) in [(&human, &torus, 2), (&cartoon, &sphere, 1)] {
+        let default = search(hand, object, "power", SHOULDERS[0], seed);
+        assert!(default.valid, "{:?}", default.invalid_reason);
+        let cap = sampled_normal_cap(&default);
+        assert!(cap < 89.0, "the default grasp's normals spread {cap:.1}°");
+    }
+    let wrap = strict(&human, &torus, "power", 2);
+    assert!(wrap.valid, "{:?}", wrap.invalid_reason);
+    let cap = sampled_normal_cap(&wrap);
     assert!(
         cap >= 89.9,
         "the strict grasp's normals lie within {cap:.1}°"
     );
+    let refused = strict(&cartoon, &sphere, "power", 1);
+    assert!(!refused.valid);
+    let reason = refused.invalid_reason.unwrap_or_default();
+    assert!(
+        reason.contains("90° needed") && reason.contains("the `holds` validity rule accepts it"),
+        "{reason}"
+    );
+    let pinch = strict(&human, &sphere, "precision-wide", 1);
+    assert!(pinch.valid, "{:?}", pinch.invalid_reason);
+    let cap = sampled_normal_cap(&pinch);
+    assert!(
+        (77.9..89.0).contains(&cap),
+        "the pinch's normals lie within {cap:.1}°"
+    );
+    assert_grasp(&sphere, &pinch, "strict wide pinch of the sphere");
 }
