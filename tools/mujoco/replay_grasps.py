@@ -35,6 +35,7 @@ import json
 import os
 import subprocess
 import sys
+import shutil
 import tempfile
 
 import mujoco
@@ -52,7 +53,10 @@ SETTLE = 0.3
 LOAD = 1.0
 DIRECTIONS = ["+x", "-x", "+y", "-y", "+z", "-z"]
 CONVEX_PARTS = True  # split non-convex objects into convex parts: --hull-only turns it off
-PARTS = "target/mujoco_parts"  # where the convex parts are cached
+# Where the convex parts are cached: the repository's target folder, whatever the working
+# directory (the Shadow scene is compiled from inside the hand's folder).
+PARTS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "target",
+                     "mujoco_parts")
 STIFF_FRICTION = False  # --stiff-friction: see world_options
 MU = 1.0  # every geom's sliding friction: --mu
 
@@ -109,10 +113,18 @@ def convex_parts(mesh_path):
     if not os.path.isdir(folder):
         coacd.set_log_level("error")
         pieces = coacd.run_coacd(coacd.Mesh(mesh.vertices, mesh.faces), threshold=0.03)
-        os.makedirs(folder + ".tmp", exist_ok=True)
+        # Written to a folder of this process's own, then renamed into place: two replays run
+        # at once both compute the parts, and the second rename finds the first's in place.
+        os.makedirs(PARTS, exist_ok=True)
+        scratch = tempfile.mkdtemp(prefix=f"{stem}-", dir=PARTS)
         for k, (v, f) in enumerate(pieces):
-            trimesh.Trimesh(v, f).export(os.path.join(folder + ".tmp", f"part{k:03}.obj"))
-        os.replace(folder + ".tmp", folder)
+            trimesh.Trimesh(v, f).export(os.path.join(scratch, f"part{k:03}.obj"))
+        try:
+            os.rename(scratch, folder)
+        except OSError:
+            if not os.path.isdir(folder):
+                raise
+            shutil.rmtree(scratch)
     files = sorted(os.path.join(folder, f) for f in os.listdir(folder))
     return [(f, trimesh.load(f, force="mesh").convex_hull.volume) for f in files]
 
