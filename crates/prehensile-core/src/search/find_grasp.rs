@@ -13,6 +13,8 @@ use crate::workspace::Workspace;
 use std::sync::mpsc::Sender;
 use std::sync::{Condvar, Mutex, MutexGuard, PoisonError};
 
+use rayon::prelude::*;
+
 use super::{
     Evaluation, GraspPlanner, GraspResult, PlannerStatus, SearchError, SearchParams, SearchSink,
     SearchStats,
@@ -102,10 +104,10 @@ pub fn find_grasp(
     sink: &mut dyn SearchSink,
 ) -> Result<GraspResult, SearchError> {
     let movements = movements_to_try(hand, &request.movement)?;
-    let results = if request.params.threads > 1 && movements.len() > 1 {
-        search_side_by_side(hand, object, request, &movements, sink)
+    let planners = if request.params.threads > 1 && movements.len() > 1 {
+        search_side_by_side(hand, object, request, &movements, sink)?
     } else if let Some(budget) = request.budget {
-        let planners = movements
+        movements
             .iter()
             .map(|movement| {
                 sink.movement_started(movement.name());
@@ -113,17 +115,12 @@ pub fn find_grasp(
                 planner.run_for_into(budget, sink);
                 Ok(planner)
             })
-            .collect::<Result<Vec<_>, SearchError>>()?;
-        contenders(hand, &planners)
+            .collect::<Result<Vec<_>, SearchError>>()?
     } else {
-        contenders(
-            hand,
-            &search_in_turn(hand, object, request, &movements, sink)?,
-        )
+        search_in_turn(hand, object, request, &movements, sink)?
     };
     let mut best: Option<GraspResult> = None;
-    for result in results {
-        let result = result?;
+    for result in contenders(hand, &planners, request.params.threads) {
         if best.as_ref().is_none_or(|b| better_grasp(&result, b)) {
             best = Some(result);
         }
@@ -222,20 +219,23 @@ fn search_in_turn<'a>(
     Ok(planners)
 }
 
-/// The results that can win among the searches of one request, each searched on this thread:
-/// those of the searches that found a valid grasp, or every result when none did. A result's
-/// contacts and 6-D wrench-space hull are the dearest part of it, and an invalid result never
-/// beats a valid one ([`better_grasp`]), so they are not computed for a search that lost.
-fn contenders(
-    hand: &HandModel,
-    planners: &[GraspPlanner],
-) -> Vec<Result<GraspResult, SearchError>> {
+/// The results that can win among the searches of one request, in the movements' order: those
+/// of the searches that found a valid grasp, or every result when none did. A result's contacts
+/// and 6-D wrench-space hull are the dearest part of it (a few milliseconds each on a scan), and
+/// an invalid result never beats a valid one ([`better_grasp`]), so they are not computed for a
+/// search that lost. With `threads` above 1 the results are computed side by side on rayon's
+/// pool; each is the same on any thread.
+fn contenders(hand: &HandModel, planners: &[GraspPlanner], threads: usize) -> Vec<GraspResult> {
     let any_valid = planners.iter().any(|p| p.best().is_some());
-    planners
+    let can_win: Vec<&GraspPlanner> = planners
         .iter()
         .filter(|p| !any_valid || p.best().is_some())
-        .map(|p| Ok(result(hand, p)))
-        .collect()
+        .collect();
+    if threads > 1 && can_win.len() > 1 {
+        can_win.par_iter().map(|p| result(hand, p)).collect()
+    } else {
+        can_win.iter().map(|p| result(hand, p)).collect()
+    }
 }
 
 /// The progress of the searches running side by side, shared by their threads.
@@ -317,13 +317,13 @@ impl SearchSink for Forward {
 /// tens of milliseconds or more: a thread's start costs nothing beside it, and unlike a task on
 /// rayon's pool it leaves this thread free to pass the events on to `sink`, which need not be
 /// `Send`). The candidates of each step still go to rayon's pool.
-fn search_side_by_side(
-    hand: &HandModel,
-    object: &ObjectModel,
+fn search_side_by_side<'a>(
+    hand: &'a HandModel,
+    object: &'a ObjectModel,
     request: &GraspRequest,
-    movements: &[&GraspMovement],
+    movements: &[&'a GraspMovement],
     sink: &mut dyn SearchSink,
-) -> Vec<Result<GraspResult, SearchError>> {
+) -> Result<Vec<GraspPlanner<'a>>, SearchError> {
     let (events, received) = std::sync::mpsc::channel();
     let race = Race {
         progress: Mutex::new(vec![Progress::default(); movements.len()]),
@@ -354,7 +354,7 @@ fn search_side_by_side(
                             }
                         },
                     }
-                    Ok(result(hand, &planner))
+                    Ok(planner)
                 })
             })
             .collect();
@@ -374,6 +374,6 @@ fn search_side_by_side(
         searches
             .into_iter()
             .map(|search| search.join().expect("a movement's search panicked"))
-            .collect()
+            .collect::<Result<Vec<_>, SearchError>>()
     })
 }
