@@ -34,7 +34,6 @@ impl HandDescription {
     /// components, change sign.
     pub fn mirrored(&self, name: &str) -> Self {
         let flip = |p: [f64; 3]| [-p[0], p[1], p[2]];
-        let negated = |[lo, hi]: [f64; 2]| [-hi, -lo];
         let mut out = self.clone();
         out.name = name.to_string();
         out.description = format!("mirror image of {}: {}", self.name, self.description);
@@ -42,32 +41,20 @@ impl HandDescription {
             b.origin = flip(b.origin);
             b.tip = b.tip.map(flip);
             b.flexes_toward = b.flexes_toward.map(flip);
-            match &mut b.joint {
-                JointDescription::TwoAxis { abduction, .. } => *abduction = negated(*abduction),
-                JointDescription::Ball { limits } => {
-                    limits[1] = negated(limits[1]);
-                    limits[2] = negated(limits[2]);
-                }
-                JointDescription::Fixed | JointDescription::Hinge { .. } => {}
-            }
+            b.joint.mirror_limits();
         }
-        // Degrees of freedom whose angle changes sign, by bone.
-        let turned: std::collections::HashMap<&str, &[usize]> = self
+        let joints: std::collections::HashMap<&str, &JointDescription> = self
             .bones
             .iter()
-            .map(|b| {
-                let dofs: &[usize] = match b.joint {
-                    JointDescription::TwoAxis { .. } => &[1],
-                    JointDescription::Ball { .. } => &[1, 2],
-                    JointDescription::Fixed | JointDescription::Hinge { .. } => &[],
-                };
-                (b.name.as_str(), dofs)
-            })
+            .map(|b| (b.name.as_str(), &b.joint))
             .collect();
         for m in &mut out.movements {
             m.grasp_center = m.grasp_center.map(flip);
             for (bone, angles) in m.start.iter_mut().chain(m.end.iter_mut()) {
-                for &k in turned.get(bone.as_str()).copied().unwrap_or_default() {
+                let dofs = joints
+                    .get(bone.as_str())
+                    .map_or(&[][..], |j| j.mirror_turned());
+                for &k in dofs {
                     if let Some(a) = angles.get_mut(k) {
                         *a = -*a;
                     }
@@ -133,6 +120,31 @@ pub enum JointDescription {
     },
 }
 
+impl JointDescription {
+    /// The degrees of freedom whose angle changes sign in the mirror image of the hand: turns
+    /// about the bone's y and z (abduction; a ball joint's y and z), not flexion about −x.
+    fn mirror_turned(&self) -> &'static [usize] {
+        match self {
+            JointDescription::TwoAxis { .. } => &[1],
+            JointDescription::Ball { .. } => &[1, 2],
+            JointDescription::Fixed | JointDescription::Hinge { .. } => &[],
+        }
+    }
+
+    /// Negates (and swaps) the limits of [`JointDescription::mirror_turned`]'s degrees of freedom.
+    fn mirror_limits(&mut self) {
+        let negated = |[lo, hi]: [f64; 2]| [-hi, -lo];
+        match self {
+            JointDescription::TwoAxis { abduction, .. } => *abduction = negated(*abduction),
+            JointDescription::Ball { limits } => {
+                limits[1] = negated(limits[1]);
+                limits[2] = negated(limits[2]);
+            }
+            JointDescription::Fixed | JointDescription::Hinge { .. } => {}
+        }
+    }
+}
+
 /// `follower.dof = ratio * leader.dof` (e.g. distal flexion = 2/3 of middle flexion).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -169,4 +181,80 @@ pub struct MovementDescription {
     /// End pose, same form.
     #[serde(default)]
     pub end: std::collections::BTreeMap<String, Vec<f64>>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mirroring_turns_a_ball_joints_y_and_z_and_twice_is_the_original() {
+        let bone = |name: &str, parent: Option<&str>, joint| BoneDescription {
+            name: name.into(),
+            parent: parent.map(Into::into),
+            origin: [0.01, 0.02, 0.03],
+            tip: parent.map(|_| [0.02, 0.03, 0.08]),
+            radius: 0.01,
+            joint,
+            finger: None,
+            flexes_toward: Some([0.7, 0.7, 0.0]),
+        };
+        let ball = JointDescription::Ball {
+            limits: [[-60.0, 10.0], [-20.0, 30.0], [-5.0, 40.0]],
+        };
+        let right = HandDescription {
+            name: "right".into(),
+            description: String::new(),
+            bones: vec![
+                bone("palm", None, JointDescription::Fixed),
+                bone("tip", Some("palm"), ball.clone()),
+                BoneDescription {
+                    origin: [-0.02, 0.0, 0.03],
+                    ..bone("other", Some("palm"), ball)
+                },
+            ],
+            couplings: Vec::new(),
+            movements: vec![MovementDescription {
+                name: "close".into(),
+                grasp_center: Some([0.01, 0.05, 0.09]),
+                grasp_center_between: Vec::new(),
+                contact_fingers: Vec::new(),
+                start: [("tip".to_string(), vec![-10.0, 5.0, 7.0])].into(),
+                end: [("tip".to_string(), vec![-50.0, 15.0, -3.0])].into(),
+            }],
+        };
+        let left = right.mirrored("left");
+        assert_eq!(
+            left.bones[1].joint,
+            JointDescription::Ball {
+                limits: [[-60.0, 10.0], [-30.0, 20.0], [-40.0, 5.0]]
+            }
+        );
+        assert_eq!(left.bones[1].origin, [-0.01, 0.02, 0.03]);
+        assert_eq!(left.movements[0].start["tip"], [-10.0, -5.0, -7.0]);
+        assert_eq!(left.movements[0].end["tip"], [-50.0, -15.0, 3.0]);
+        assert_eq!(left.movements[0].grasp_center, Some([-0.01, 0.05, 0.09]));
+        let back = left.mirrored("right");
+        assert_eq!(back.bones, right.bones);
+        assert_eq!(back.movements, right.movements);
+
+        // Posed, the left hand is the mirror image of the right one along the whole closing.
+        let (right, left) = (
+            crate::HandModel::from_description(&right).unwrap(),
+            crate::HandModel::from_description(&left).unwrap(),
+        );
+        for f in [0.0, 0.5, 1.0] {
+            let tip = |h: &crate::HandModel| {
+                let m = h.movement("close").unwrap();
+                let r: Vec<_> = (0..h.bones().len()).map(|b| m.rotation_at(b, f)).collect();
+                let world = h.pose_transforms(&crate::math::Transform::identity(), &r);
+                world[1] * h.fingers()[0].tip
+            };
+            let (r, l) = (tip(&right), tip(&left));
+            assert!(
+                (crate::math::Point3::new(-r.x, r.y, r.z) - l).norm() < 1e-12,
+                "at {f}: {r} and {l}"
+            );
+        }
+    }
 }
