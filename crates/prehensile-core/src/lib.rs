@@ -36,7 +36,7 @@ pub mod workspace;
 pub use collision::{Capsule, CollisionCounters};
 pub use finger_closing::{close_fingers, ClosingOutcome, ClosingParams};
 pub use hand::{HandDescription, HandError, HandModel};
-pub use mesh::{MeshError, MeshReport, TriangleMesh};
+pub use mesh::{DroppedTriangles, MeshError, MeshReport, TriangleMesh};
 pub use movement::GraspMovement;
 pub use object::{ObjectError, ObjectModel};
 pub use workspace::Workspace;

@@ -108,6 +108,17 @@ impl std::fmt::Display for MeshReport {
     }
 }
 
+/// What [`TriangleMesh::drop_cancelling_triangles`] dropped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct DroppedTriangles {
+    /// Triangles with a vertex repeated.
+    pub collapsed: usize,
+    /// Pairs of coincident triangles wound opposite ways.
+    pub cancelling_pairs: usize,
+    /// Copies of a triangle wound the same way as one kept.
+    pub duplicates: usize,
+}
+
 impl TriangleMesh {
     /// Welds a triangle list by exact position (coincident vertices become one), checks numbers and
     /// indices, and drops nothing. Use [`TriangleMesh::report`] to check topology.
@@ -321,11 +332,13 @@ impl TriangleMesh {
             .collect()
     }
 
-    /// Drops triangles that contribute nothing to the surface, so the shape is exactly the same:
-    /// collapsed triangles (a vertex repeated) and pairs of coincident triangles wound opposite
-    /// ways (they cancel; scans have them as slivers of a fraction of a square millimetre).
-    /// Returns the mesh and how many of each were dropped.
-    pub fn drop_cancelling_triangles(&self) -> (Self, usize, usize) {
+    /// Drops triangles that add nothing to the surface: collapsed triangles (a vertex repeated),
+    /// pairs of coincident triangles wound opposite ways (they cancel; scans have them as slivers
+    /// of a fraction of a square millimetre), and copies of a triangle wound the same way as one
+    /// kept (the surface counted once: each copy would add the triangle's solid angle to the
+    /// winding number again, and a crafted file of millions of copies of one face made every
+    /// inside test visit all of them). Returns the mesh and what was dropped.
+    pub fn drop_cancelling_triangles(&self) -> (Self, DroppedTriangles) {
         let mut dead = vec![false; self.triangles.len()];
         let mut collapsed = 0;
         // Each triangle under its sorted vertex set, with its winding's parity, sorted so that
@@ -346,16 +359,26 @@ impl TriangleMesh {
             by_set.push((key, t, rotation.contains(&key)));
         }
         by_set.sort_unstable();
-        let mut pairs = 0;
+        let (mut pairs, mut duplicates) = (0, 0);
         for list in by_set.chunk_by(|x, y| x.0 == y.0) {
             // The k-th triangle wound one way cancels the k-th wound the other way, in mesh
             // order: one pass, so a crafted mesh of many copies of one triangle stays linear.
             let up = list.iter().filter(|x| x.2).map(|x| x.1);
             let down = list.iter().filter(|x| !x.2).map(|x| x.1);
-            for (u, d) in up.zip(down) {
+            for (u, d) in up.clone().zip(down.clone()) {
                 dead[u] = true;
                 dead[d] = true;
                 pairs += 1;
+            }
+            // Of those left over (all wound the way more of them are), the first stays.
+            let (ups, downs) = (up.count(), down.count());
+            let left_over = list
+                .iter()
+                .filter(|x| x.2 == (ups > downs))
+                .skip(ups.min(downs) + 1);
+            for x in left_over {
+                dead[x.1] = true;
+                duplicates += 1;
             }
         }
         let triangles = self
@@ -370,8 +393,11 @@ impl TriangleMesh {
                 vertices: self.vertices.clone(),
                 triangles,
             },
-            collapsed,
-            pairs,
+            DroppedTriangles {
+                collapsed,
+                cancelling_pairs: pairs,
+                duplicates,
+            },
         )
     }
 
@@ -797,19 +823,20 @@ mod tests {
         t.push([1, 0, extra]);
         let mesh = TriangleMesh::weld(&p, &t).unwrap();
         assert!(!mesh.report().defects.is_empty());
-        let (fixed, collapsed, pairs) = mesh.drop_cancelling_triangles();
-        assert_eq!((collapsed, pairs), (1, 1));
+        let (fixed, dropped) = mesh.drop_cancelling_triangles();
+        assert_eq!((dropped.collapsed, dropped.cancelling_pairs), (1, 1));
         let clean = TriangleMesh::weld(&tetra().0, &tetra().1).unwrap();
         assert_eq!(fixed.triangles, clean.triangles);
         assert!(fixed.report().defects.is_empty());
-        // Two copies wound the same way do not cancel.
+        // Two copies wound the same way do not cancel: one stays.
         let (mut p, mut t) = tetra();
         t.push(t[0]);
         p.push(Point3::origin());
-        let (_, _, pairs) = TriangleMesh::weld(&p, &t)
+        let (fixed, dropped) = TriangleMesh::weld(&p, &t)
             .unwrap()
             .drop_cancelling_triangles();
-        assert_eq!(pairs, 0);
+        assert_eq!((dropped.cancelling_pairs, dropped.duplicates), (0, 1));
+        assert_eq!(fixed.triangles, clean.triangles);
         // A crafted mesh of 200,000 copies of one face, wound both ways in turn plus one more
         // one way: every pair cancels, in one pass over them (the pairing used to rescan the
         // copies for every pair, quadratic in their number).
@@ -822,11 +849,36 @@ mod tests {
                 face
             });
         }
-        let (fixed, _, pairs) = TriangleMesh::weld(&p, &t)
+        let (fixed, dropped) = TriangleMesh::weld(&p, &t)
             .unwrap()
             .drop_cancelling_triangles();
-        assert_eq!(pairs, 100_001);
+        assert_eq!(dropped.cancelling_pairs, 100_001);
+        assert_eq!(dropped.duplicates, 0);
         assert_eq!(fixed.triangles.len(), 4 - 1 + 200_001 - 2 * 100_001 + 1);
+        // 200,000 copies wound one way and 3 the other: 3 pairs cancel, one copy stays.
+        let (p, mut t) = tetra();
+        let face = t[0];
+        for k in 0..200_003 {
+            t.push(if k < 3 {
+                [face[0], face[2], face[1]]
+            } else {
+                face
+            });
+        }
+        let (fixed, dropped) = TriangleMesh::weld(&p, &t)
+            .unwrap()
+            .drop_cancelling_triangles();
+        assert_eq!(dropped.cancelling_pairs, 3);
+        assert_eq!(dropped.duplicates, 200_000 + 1 - 3 - 1);
+        let sorted = |mut t: Vec<[u32; 3]>| {
+            t.sort_unstable();
+            t
+        };
+        assert_eq!(
+            sorted(fixed.triangles.clone()),
+            sorted(clean.triangles.clone())
+        );
+        assert!(fixed.report().defects.is_empty());
     }
 
     #[test]

@@ -84,8 +84,8 @@ impl ObjectModel {
     /// Checks the mesh (plausible size, an inside of some volume), computes its mass properties
     /// and builds its colliders. Hooks default to the centre of mass.
     ///
-    /// Exact repairs that leave the shape unchanged come first: collapsed triangles and
-    /// coincident opposite pairs are dropped, zero-area slivers removed by splitting their
+    /// Exact repairs that leave the shape unchanged come first: collapsed triangles,
+    /// coincident opposite pairs and same-wound duplicates are dropped, zero-area slivers removed by splitting their
     /// neighbours, an inside-out closed mesh turned the right way. A clean closed manifold then
     /// gets pseudo-normal signs and the distance grid. Any other mesh — open, non-manifold,
     /// inconsistently wound, or of overlapping parts — gets its inside from generalized winding
@@ -96,16 +96,24 @@ impl ObjectModel {
         mesh: TriangleMesh,
         hooks: Option<Vec<Point3>>,
     ) -> Result<Self, ObjectError> {
-        let (mut mesh, collapsed, pairs) = mesh.drop_cancelling_triangles();
+        let (mut mesh, dropped) = mesh.drop_cancelling_triangles();
         let mut repairs = Vec::new();
-        if collapsed > 0 {
+        if dropped.collapsed > 0 {
             repairs.push(format!(
-                "dropped {collapsed} collapsed triangle(s) (a vertex repeated); the shape is unchanged"
+                "dropped {} collapsed triangle(s) (a vertex repeated); the shape is unchanged",
+                dropped.collapsed
             ));
         }
-        if pairs > 0 {
+        if dropped.cancelling_pairs > 0 {
             repairs.push(format!(
-                "dropped {pairs} pair(s) of coincident triangles wound opposite ways (they cancel); the shape is unchanged"
+                "dropped {} pair(s) of coincident triangles wound opposite ways (they cancel); the shape is unchanged",
+                dropped.cancelling_pairs
+            ));
+        }
+        if dropped.duplicates > 0 {
+            repairs.push(format!(
+                "dropped {} duplicate triangle(s) (the same corners, wound the same way, as one kept); the surface is unchanged, counted once",
+                dropped.duplicates
             ));
         }
         let mut report = mesh.report();

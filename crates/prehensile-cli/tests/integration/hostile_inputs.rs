@@ -263,3 +263,19 @@ fn crafted_gltf_accessors_are_refused_before_the_reader_sees_them() {
     );
     refused(&["grasp", "--hand", s(&file)], "refers to accessor 0");
 }
+
+#[test]
+fn millions_of_copies_of_one_face_are_counted_once() {
+    // A 12 MB OBJ whose one face lists "1 2 3" two million times: fanned out, six million
+    // triangles, a third collapsed and the rest copies of one face. Every inside test visited
+    // each copy (over a minute); the copies are now dropped as duplicates, the tetrahedron kept.
+    let path = scratch("stacked.obj");
+    let mut obj = String::from("v 0 0 0\nv 0.1 0 0\nv 0 0.1 0\nv 0 0 0.1\nf 1 3 2");
+    obj.push_str(&" 1 3 2".repeat(2_000_000));
+    obj.push_str("\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+    std::fs::write(&path, obj).unwrap();
+    let (code, err) = run(&["check", s(&path)], Stdio::null());
+    assert_eq!(code, Some(0), "{err}");
+    assert!(err.contains("duplicate triangle(s)"), "{err}");
+    assert!(err.contains("accepts this mesh"), "{err}");
+}
