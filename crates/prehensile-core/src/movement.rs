@@ -1,4 +1,5 @@
 //! Grasp movements (§5.3, §6.3.2): a start pose and an end pose, interpolated per bone by slerp.
+//! Beyond the thesis, a movement may pass through a via pose on the way (see [`Via`]).
 
 use crate::hand::{HandError, HandModel, MovementDescription};
 use crate::math::{Point3, Rotation, Transform};
@@ -14,6 +15,31 @@ pub struct GraspMovement {
     end: Vec<Rotation>,
     grasp_center: Point3,
     contact_fingers: Vec<usize>,
+    via: Option<Via>,
+}
+
+/// A pose a movement passes through at a fraction of its closing, beyond the thesis's straight
+/// start → end interpolation: bones go by slerp from start to via, then from via to end. The
+/// derived power movement uses it to swing the thumb wide out of the palm first and fold it in
+/// after, so that it comes down on the near side of an object as wide as the hand and still
+/// reaches one much narrower (docs/QUALITY.md, session 27).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Via {
+    fraction: f64,
+    angles: Vec<f64>,
+    rotations: Vec<Rotation>,
+}
+
+impl Via {
+    /// Fraction of the closing (strictly between 0 and 1) at which the movement is at this pose.
+    pub fn fraction(&self) -> f64 {
+        self.fraction
+    }
+
+    /// Joint angles of the pose (radians, couplings applied).
+    pub fn angles(&self) -> &[f64] {
+        &self.angles
+    }
 }
 
 impl GraspMovement {
@@ -47,18 +73,72 @@ impl GraspMovement {
         &self.start
     }
 
+    /// The pose the movement passes through on the way, if any.
+    pub fn via(&self) -> Option<&Via> {
+        self.via.as_ref()
+    }
+
     /// Joint rotation of `bone` at fraction `f` ∈ [0, 1] of the movement.
     #[inline]
     pub fn rotation_at(&self, bone: usize, f: f64) -> Rotation {
-        self.start[bone].slerp(&self.end[bone], f)
+        match &self.via {
+            None => self.start[bone].slerp(&self.end[bone], f),
+            Some(v) if f <= v.fraction => {
+                self.start[bone].slerp(&v.rotations[bone], f / v.fraction)
+            }
+            Some(v) => {
+                v.rotations[bone].slerp(&self.end[bone], (f - v.fraction) / (1.0 - v.fraction))
+            }
+        }
+    }
+
+    /// This movement passing through `angles` (limits and couplings applied) at `fraction` of
+    /// its closing; `None` angles of a degree of freedom keep it on its straight way (the
+    /// start–end interpolation at `fraction`). Errors if `fraction` is not strictly between 0
+    /// and 1 or `angles` has the wrong length.
+    pub fn through(
+        mut self,
+        hand: &HandModel,
+        fraction: f64,
+        angles: &[Option<f64>],
+    ) -> Result<Self, HandError> {
+        if !(fraction > 0.0 && fraction < 1.0) {
+            return Err(HandError::Invalid(format!(
+                "movement '{}': via_fraction = {fraction} is not strictly between 0 and 1",
+                self.name
+            )));
+        }
+        if angles.len() != hand.dof_count() {
+            return Err(HandError::Invalid(format!(
+                "movement '{}': the via pose has {} angles, the hand {} degrees of freedom",
+                self.name,
+                angles.len(),
+                hand.dof_count()
+            )));
+        }
+        let mut q: Vec<f64> = angles
+            .iter()
+            .zip(self.start_angles.iter().zip(&self.end_angles))
+            .map(|(a, (s, e))| a.unwrap_or(s + fraction * (e - s)))
+            .collect();
+        hand.constrain(&mut q);
+        let mut rotations = vec![Rotation::identity(); hand.bones().len()];
+        hand.joint_rotations(&q, &mut rotations);
+        self.via = Some(Via {
+            fraction,
+            angles: q,
+            rotations,
+        });
+        Ok(self)
     }
 
     /// Builds a movement from its description, checking names, counts and limits.
     pub fn from_description(hand: &HandModel, d: &MovementDescription) -> Result<Self, HandError> {
-        let angles = |which: &str,
-                      pose: &std::collections::BTreeMap<String, Vec<f64>>|
-         -> Result<Vec<f64>, HandError> {
-            let mut out = vec![0.0; hand.dof_count()];
+        // The angles a pose names, by degree of freedom; `None` where it names none.
+        let named = |which: &str,
+                     pose: &std::collections::BTreeMap<String, Vec<f64>>|
+         -> Result<Vec<Option<f64>>, HandError> {
+            let mut out = vec![None; hand.dof_count()];
             for (bone_name, values) in pose {
                 let i = hand.bone_index(bone_name).ok_or_else(|| {
                     HandError::Invalid(format!(
@@ -86,11 +166,19 @@ impl GraspMovement {
                             hi.to_degrees()
                         )));
                     }
-                    out[bone.first_dof + k] = rad;
+                    out[bone.first_dof + k] = Some(rad);
                 }
             }
-            hand.constrain(&mut out);
             Ok(out)
+        };
+        // A pose's unnamed degrees of freedom are at zero (then limits and couplings applied).
+        let angles = |which: &str, pose| -> Result<Vec<f64>, HandError> {
+            let mut q: Vec<f64> = named(which, pose)?
+                .into_iter()
+                .map(|a| a.unwrap_or(0.0))
+                .collect();
+            hand.constrain(&mut q);
+            Ok(q)
         };
         let start_angles = angles("start", &d.start)?;
         let end_angles = angles("end", &d.end)?;
@@ -112,6 +200,9 @@ impl GraspMovement {
         let contact_fingers = finger_ids(&d.contact_fingers)?;
         let mut movement =
             Self::from_angles(hand, &d.name, start_angles, end_angles, Point3::origin());
+        if !d.via.is_empty() {
+            movement = movement.through(hand, d.via_fraction, &named("via", &d.via)?)?;
+        }
         movement.contact_fingers = contact_fingers;
         movement.grasp_center = match (d.grasp_center, between.is_empty()) {
             (Some(c), true) if c.iter().all(|x| x.is_finite()) => Point3::from(c),
@@ -214,6 +305,7 @@ impl GraspMovement {
             end,
             grasp_center,
             contact_fingers: Vec::new(),
+            via: None,
         }
     }
 

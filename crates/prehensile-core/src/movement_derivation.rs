@@ -8,8 +8,10 @@
 //! centroid of the non-thumb fingers' first joints and L their mean length:
 //! - **power**: the grasp center C = K + 0.45·L·y; each finger's tip goes to C shifted across by
 //!   the finger's own x offset (the fingers curl side by side around an object at C), the thumb's
-//!   tip toward a point far out of the palm beyond C (`POWER_THUMB_AIM`), so that it opposes the
-//!   fingers from the near side of the object, past its equator;
+//!   tip first toward a point far out of the palm beyond C (`POWER_THUMB_AIM`, reached half-way
+//!   through the closing: the movement's via pose), then folding in toward C itself, so that it
+//!   opposes the fingers from the near side of an object as wide as the hand, past its equator,
+//!   and still comes onto one much narrower than the hand;
 //! - **precision**: the pinch point P = (index's first joint) + 0.5·L·y + 0.45·L·z; the thumb's
 //!   and the index's tips both go to P (their pads meet, so an object between them is squeezed
 //!   from opposite sides), the other fingers follow the index side by side. Contact fingers:
@@ -41,6 +43,11 @@ const MAX_SWEEPS: usize = 400;
 /// grasps then had every contact normal within 69–73° of one direction (docs/QUALITY.md,
 /// session 26).
 const POWER_THUMB_AIM: [f64; 3] = [0.15, 1.5, -0.3];
+/// Fraction of the power closing at which the thumb is at `POWER_THUMB_AIM`; after it, the thumb
+/// folds in toward the grasp center. Aimed only out of the palm (session 26), the thumb passed
+/// beside objects narrower than the hand: the Shadow hand's power grasps of the 4.5 cm lemon and
+/// the 6.6 cm can touched with the four fingers alone in 3 of 38 (docs/QUALITY.md, session 27).
+const POWER_THUMB_VIA_FRACTION: f64 = 0.5;
 
 /// The thumb: the finger whose name contains "thumb" (or is "th"); `None` if there is none.
 pub fn thumb(hand: &HandModel) -> Option<usize> {
@@ -104,14 +111,16 @@ pub fn derive_power(hand: &HandModel) -> Option<GraspMovement> {
             }
         })
         .collect();
-    let end = reach_targets(hand, &targets);
-    Some(GraspMovement::to_end_pose(
-        hand,
-        "power",
-        end,
-        center,
-        Vec::new(),
-    ))
+    let wide = reach_targets(hand, &targets);
+    let mut end = wide.clone();
+    reach_target(hand, &mut end, frame.thumb, &center);
+    let thumb_dofs = finger_dofs(hand, frame.thumb);
+    let via: Vec<Option<f64>> = (0..hand.dof_count())
+        .map(|k| thumb_dofs.contains(&k).then_some(wide[k]))
+        .collect();
+    GraspMovement::to_end_pose(hand, "power", end, center, Vec::new())
+        .through(hand, POWER_THUMB_VIA_FRACTION, &via)
+        .ok()
 }
 
 /// The derived precision movement (thumb and index pinch), or `None` for a hand without a
@@ -228,67 +237,77 @@ fn tip(hand: &HandModel, world: &[Transform], finger: usize) -> Point3 {
     world[*f.bones.last().expect("fingers have bones")] * f.tip
 }
 
-/// Joint angles bringing each finger's tip as near its target as the limits allow (coordinate
-/// descent with a halving step, finger by finger; couplings applied after every move).
+/// Joint angles bringing each finger's tip as near its target as the limits allow, from the
+/// open pose ([`reach_target`] finger by finger).
+fn reach_targets(hand: &HandModel, targets: &[Point3]) -> Vec<f64> {
+    let mut q = open_angles(hand);
+    for (f, target) in targets.iter().enumerate() {
+        reach_target(hand, &mut q, f, target);
+    }
+    q
+}
+
+/// The degrees of freedom of finger `f`'s joints.
+fn finger_dofs(hand: &HandModel, f: usize) -> Vec<usize> {
+    hand.fingers()[f]
+        .bones
+        .iter()
+        .flat_map(|&b| {
+            let bone = &hand.bones()[b];
+            bone.first_dof..bone.first_dof + bone.joint.dofs()
+        })
+        .collect()
+}
+
+/// Moves finger `f`'s joints in `q` to bring its tip as near `target` as the limits allow
+/// (coordinate descent with a halving step; couplings applied after every move).
 ///
 /// A finger other than the thumb must not sink into its neighbours beyond what they overlap at
 /// rest: a penalty on the summed capsule overlap keeps side-by-side fingers from converging on
 /// one target (in an engine that collides fingers with each other, as MuJoCo does, they would
 /// push each other and the object aside). The thumb is meant to meet the fingers and is exempt.
-fn reach_targets(hand: &HandModel, targets: &[Point3]) -> Vec<f64> {
-    let mut q = open_angles(hand);
+fn reach_target(hand: &HandModel, q: &mut Vec<f64>, f: usize, target: &Point3) {
     let rest = rest_pose(hand);
     let thumb_finger = thumb(hand);
-    for (f, target) in targets.iter().enumerate() {
-        let dofs: Vec<usize> = hand.fingers()[f]
-            .bones
-            .iter()
-            .flat_map(|&b| {
-                let bone = &hand.bones()[b];
-                bone.first_dof..bone.first_dof + bone.joint.dofs()
-            })
-            .collect();
-        let neighbours: Vec<usize> = if Some(f) == thumb_finger {
-            Vec::new()
-        } else {
-            (0..hand.fingers().len())
-                .filter(|&g| g != f && Some(g) != thumb_finger)
-                .collect()
-        };
-        let rest_overlap = finger_overlap(hand, &rest, f, &neighbours);
-        let distance = |q: &[f64]| {
-            let world = hand.pose_transforms(&Transform::identity(), &rotations(hand, q));
-            let overlap = finger_overlap(hand, &world, f, &neighbours);
-            (tip(hand, &world, f) - target).norm()
-                + OVERLAP_WEIGHT * (overlap - rest_overlap).max(0.0)
-        };
-        let mut best = distance(&q);
-        let mut step = 0.25;
-        let mut sweeps = 0;
-        while step > MIN_STEP && sweeps < MAX_SWEEPS {
-            sweeps += 1;
-            let mut moved = false;
-            for &k in &dofs {
-                for sign in [1.0, -1.0] {
-                    let mut trial = q.clone();
-                    trial[k] += sign * step;
-                    hand.constrain(&mut trial);
-                    if trial[k] == q[k] {
-                        continue;
-                    }
-                    let d = distance(&trial);
-                    if d < best - 1e-12 {
-                        best = d;
-                        q = trial;
-                        moved = true;
-                        break;
-                    }
+    let dofs = finger_dofs(hand, f);
+    let neighbours: Vec<usize> = if Some(f) == thumb_finger {
+        Vec::new()
+    } else {
+        (0..hand.fingers().len())
+            .filter(|&g| g != f && Some(g) != thumb_finger)
+            .collect()
+    };
+    let rest_overlap = finger_overlap(hand, &rest, f, &neighbours);
+    let distance = |q: &[f64]| {
+        let world = hand.pose_transforms(&Transform::identity(), &rotations(hand, q));
+        let overlap = finger_overlap(hand, &world, f, &neighbours);
+        (tip(hand, &world, f) - target).norm() + OVERLAP_WEIGHT * (overlap - rest_overlap).max(0.0)
+    };
+    let mut best = distance(q);
+    let mut step = 0.25;
+    let mut sweeps = 0;
+    while step > MIN_STEP && sweeps < MAX_SWEEPS {
+        sweeps += 1;
+        let mut moved = false;
+        for &k in &dofs {
+            for sign in [1.0, -1.0] {
+                let mut trial = q.clone();
+                trial[k] += sign * step;
+                hand.constrain(&mut trial);
+                if trial[k] == q[k] {
+                    continue;
+                }
+                let d = distance(&trial);
+                if d < best - 1e-12 {
+                    best = d;
+                    *q = trial;
+                    moved = true;
+                    break;
                 }
             }
-            if !moved {
-                step *= 0.5;
-            }
+        }
+        if !moved {
+            step *= 0.5;
         }
     }
-    q
 }

@@ -508,6 +508,7 @@ fn human_mapping(
                 grasp_center: m.grasp_center.map(|c| c.map(|v| v * scale)),
                 start: map(&m.start),
                 end: map(&m.end),
+                via: map(&m.via),
                 ..m.clone()
             }
         })

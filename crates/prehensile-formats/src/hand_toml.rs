@@ -132,6 +132,70 @@ mod tests {
     }
 
     #[test]
+    fn a_movement_passes_through_its_via_pose() {
+        let human = include_str!("../../../assets/hands/human.toml");
+        let with_via = |fraction: &str, thumb: &str| {
+            human
+                .replacen(
+                    "grasp_center = [0.008, 0.045, 0.085]\n",
+                    &format!("grasp_center = [0.008, 0.045, 0.085]\nvia_fraction = {fraction}\n"),
+                    1,
+                )
+                .replacen(
+                    "[movements.end]\nthumb_metacarpal = [50.0, -15.0]",
+                    &format!(
+                        "[movements.via]\nthumb_metacarpal = {thumb}\n\
+                         [movements.end]\nthumb_metacarpal = [50.0, -15.0]"
+                    ),
+                    1,
+                )
+        };
+        let hand = parse_hand_toml(&with_via("0.25", "[60.0, -20.0]"), "via.toml").unwrap();
+        let power = hand.movement("power").unwrap();
+        let via = power.via().expect("the file's via pose");
+        assert_eq!(via.fraction(), 0.25);
+        // At the via fraction the named bone is at its via angles, the others a quarter of the
+        // way from start to end; past it, on the way from via to end.
+        let angles_at = |f: f64| {
+            let mut q = vec![0.0; hand.dof_count()];
+            for (b, bone) in hand.bones().iter().enumerate() {
+                let n = bone.joint.dofs();
+                bone.joint.angles(
+                    &power.rotation_at(b, f),
+                    &mut q[bone.first_dof..bone.first_dof + n],
+                );
+            }
+            q
+        };
+        let dof = |bone: &str| hand.bones()[hand.bone_index(bone).unwrap()].first_dof;
+        let (thumb, index) = (dof("thumb_metacarpal"), dof("index_proximal"));
+        let at = angles_at(0.25);
+        assert!((at[thumb].to_degrees() - 60.0).abs() < 1e-9);
+        assert!((at[thumb + 1].to_degrees() + 20.0).abs() < 1e-9);
+        assert!(
+            (at[index].to_degrees() - 20.0).abs() < 1e-9,
+            "{}",
+            at[index]
+        );
+        // (A hinge's angle goes linearly; the thumb's two-axis joint goes by slerp.)
+        let later = angles_at(0.625);
+        assert!((later[index].to_degrees() - 50.0).abs() < 1e-9);
+        assert!((angles_at(1.0)[thumb].to_degrees() - 50.0).abs() < 1e-9);
+        for (a, b) in at.iter().zip(via.angles()) {
+            assert!((a - b).abs() < 1e-9);
+        }
+        // Bad fractions and angles are named.
+        for bad in ["0.0", "1.0", "nan", "-3"] {
+            let e = parse_hand_toml(&with_via(bad, "[60.0, -20.0]"), "via.toml").unwrap_err();
+            assert!(e.to_string().contains("via_fraction"), "{e}");
+        }
+        let e = parse_hand_toml(&with_via("0.5", "[500.0, 0.0]"), "via.toml").unwrap_err();
+        assert!(e.to_string().contains("(via pose)"), "{e}");
+        let e = parse_hand_toml(&with_via("0.5", "[5.0]"), "via.toml").unwrap_err();
+        assert!(e.to_string().contains("gives 1 angle(s)"), "{e}");
+    }
+
+    #[test]
     fn syntax_errors_give_the_line() {
         let err = parse_hand_toml("name = \"x\"\n[[bones]]\nname = 3\n", "bad.toml").unwrap_err();
         assert_eq!(err.location.as_deref(), Some("line 3"), "{err}");

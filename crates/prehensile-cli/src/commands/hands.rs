@@ -44,6 +44,12 @@ struct MovementSummary {
     contact_fingers: Vec<String>,
     start_angles_deg: std::collections::BTreeMap<String, f64>,
     end_angles_deg: std::collections::BTreeMap<String, f64>,
+    /// The pose the movement passes through on the way, if any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    via_angles_deg: Option<std::collections::BTreeMap<String, f64>>,
+    /// Fraction of the closing at the via pose.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    via_fraction: Option<f64>,
 }
 
 #[derive(serde::Serialize)]
@@ -114,6 +120,8 @@ fn summary(h: &HandModel) -> HandSummary {
                     .collect(),
                 start_angles_deg: degrees_by_name(h, m.start_angles()),
                 end_angles_deg: degrees_by_name(h, m.end_angles()),
+                via_angles_deg: m.via().map(|v| degrees_by_name(h, v.angles())),
+                via_fraction: m.via().map(|v| v.fraction()),
             })
             .collect(),
         finger_details: h

@@ -50,7 +50,12 @@ impl HandDescription {
             .collect();
         for m in &mut out.movements {
             m.grasp_center = m.grasp_center.map(flip);
-            for (bone, angles) in m.start.iter_mut().chain(m.end.iter_mut()) {
+            for (bone, angles) in m
+                .start
+                .iter_mut()
+                .chain(m.end.iter_mut())
+                .chain(m.via.iter_mut())
+            {
                 let dofs = joints
                     .get(bone.as_str())
                     .map_or(&[][..], |j| j.mirror_turned());
@@ -181,6 +186,18 @@ pub struct MovementDescription {
     /// End pose, same form.
     #[serde(default)]
     pub end: std::collections::BTreeMap<String, Vec<f64>>,
+    /// A pose to pass through on the way, same form (beyond the thesis); bones it does not name
+    /// move straight from start to end. Empty: no via pose.
+    #[serde(default)]
+    pub via: std::collections::BTreeMap<String, Vec<f64>>,
+    /// Fraction of the closing at which the movement is at the via pose, strictly between 0
+    /// and 1.
+    #[serde(default = "half")]
+    pub via_fraction: f64,
+}
+
+fn half() -> f64 {
+    0.5
 }
 
 #[cfg(test)]
@@ -221,6 +238,8 @@ mod tests {
                 contact_fingers: Vec::new(),
                 start: [("tip".to_string(), vec![-10.0, 5.0, 7.0])].into(),
                 end: [("tip".to_string(), vec![-50.0, 15.0, -3.0])].into(),
+                via: [("tip".to_string(), vec![-20.0, 10.0, -5.0])].into(),
+                via_fraction: 0.4,
             }],
         };
         let left = right.mirrored("left");
@@ -233,6 +252,7 @@ mod tests {
         assert_eq!(left.bones[1].origin, [-0.01, 0.02, 0.03]);
         assert_eq!(left.movements[0].start["tip"], [-10.0, -5.0, -7.0]);
         assert_eq!(left.movements[0].end["tip"], [-50.0, -15.0, 3.0]);
+        assert_eq!(left.movements[0].via["tip"], [-20.0, -10.0, 5.0]);
         assert_eq!(left.movements[0].grasp_center, Some([-0.01, 0.05, 0.09]));
         let back = left.mirrored("right");
         assert_eq!(back.bones, right.bones);
@@ -243,7 +263,7 @@ mod tests {
             crate::HandModel::from_description(&right).unwrap(),
             crate::HandModel::from_description(&left).unwrap(),
         );
-        for f in [0.0, 0.5, 1.0] {
+        for f in [0.0, 0.2, 0.4, 0.5, 1.0] {
             let tip = |h: &crate::HandModel| {
                 let m = h.movement("close").unwrap();
                 let r: Vec<_> = (0..h.bones().len()).map(|b| m.rotation_at(b, f)).collect();
