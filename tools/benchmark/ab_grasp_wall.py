@@ -4,7 +4,7 @@ own time (the result's `stats.seconds`) (docs/PERFORMANCE.md).
 
 Build the CLI in two checkouts (for instance `git worktree add ../before HEAD~1`), then:
     python3 tools/benchmark/ab_grasp_wall.py BEFORE/target/release/prehensile \\
-        target/release/prehensile [--objects bread milk ...] [--rounds N]
+        target/release/prehensile [--hand H] [--objects bread milk ...] [--rounds N]
 An object is a robosuite scan's short name (assets/objects/robosuite_NAME.*), a built-in object
 or a mesh path. Standard library only.
 """
@@ -29,10 +29,10 @@ def object_argument(name):
     return str(found[0])
 
 
-def timed_grasp(binary, mesh, seed, movement, threads, out):
+def timed_grasp(binary, hand, mesh, seed, movement, threads, out):
     """Wall time of one `grasp` run and its search time, milliseconds."""
-    command = [binary, "grasp", "--object", mesh, "--movement", movement, "--seed", str(seed),
-               "--out", out]
+    command = [binary, "grasp", "--hand", hand, "--object", mesh, "--movement", movement,
+               "--seed", str(seed), "--out", out]
     if threads:
         command += ["--threads", str(threads)]
     start = time.perf_counter()
@@ -48,6 +48,7 @@ def main():
     parser.add_argument("b", help="prehensile binary B (e.g. the build after it)")
     parser.add_argument("--objects", nargs="+", default=["bread", "milk", "cereal", "can"])
     parser.add_argument("--seeds", nargs="+", type=int, default=[1, 2, 3])
+    parser.add_argument("--hand", default="human", help="passed on as --hand")
     parser.add_argument("--movement", default="power")
     parser.add_argument("--rounds", type=int, default=5)
     parser.add_argument("--threads", type=int, help="passed on as --threads (default: the CLI's)")
@@ -61,7 +62,8 @@ def main():
             for seed in args.seeds:
                 for binary in (args.a, args.b):
                     times[binary].append(
-                        timed_grasp(binary, mesh, seed, args.movement, args.threads, out))
+                        timed_grasp(binary, args.hand, mesh, seed, args.movement, args.threads,
+                                    out))
         (wa, sa), (wb, sb) = (
             tuple(statistics.median(t[k] for t in times[x]) for k in (0, 1))
             for x in (args.a, args.b))

@@ -44,9 +44,12 @@ def one_sided(normals):
     return res.status == 0 and -res.fun > 1e-9
 
 
+CLI = "./target/release/prehensile"  # the build surveyed: --cli
+
+
 def run(hand, obj, movement, seed, rule):
     with tempfile.NamedTemporaryFile(suffix=".json") as f:
-        p = subprocess.run(["./target/release/prehensile", "grasp", "--hand", hand, "--object", obj,
+        p = subprocess.run([CLI, "grasp", "--hand", hand, "--object", obj,
                             "--movement", movement, "--seed", str(seed), "--validity", rule,
                             "--hold", "--out", f.name], capture_output=True, text=True)
         if p.returncode == 2:
@@ -58,7 +61,9 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--rules", nargs="+", default=["holds", "strict", "thesis"],
                     choices=["holds", "strict", "thesis"])
+    ap.add_argument("--cli", default=CLI, help="the prehensile binary to survey")
     args = ap.parse_args()
+    globals()["CLI"] = args.cli
     rows = {}
     for rule in args.rules:
         stats = {"searches": 0, "valid": 0, "fc": 0, "one_sided": 0, "eps": [], "ms": [],

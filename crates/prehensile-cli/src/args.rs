@@ -288,7 +288,8 @@ pub struct GraspArgs {
     pub friction: f64,
     /// Which grasps are valid: `holds` (force closure, the contact normals not all within 78° of
     /// one direction at friction 0.5, 59.6° at 1, and a precision grasp's thumb and index pads
-    /// opposed), `strict` (`holds`, and a power grasp's normals never all in one open
+    /// opposed; a power grasp whose normals all lie in one open half-space only when the search
+    /// finds none that pushes from every side), `strict` (`holds`, and a power grasp's normals never all in one open
     /// half-space, whatever the friction) or `thesis` (no penetration and enough fingers
     /// touching, §6.4.1).
     #[arg(long, default_value_t = ValidityRule::default())]

@@ -207,6 +207,8 @@ pub struct GraspPlanner<'a> {
     best_valid: Option<Evaluation>,
     status: PlannerStatus,
     since_improvement: u32,
+    /// Steps ended with a valid best pose that pushes from one side only.
+    one_sided_steps: u32,
     axis: usize,
     stats: SearchStats,
     workspaces: Vec<Workspace>,
@@ -237,6 +239,15 @@ enum Restart {
 /// of a step costs. One a slice (six until session 10) keeps a 4 ms frame in wasm on the mug
 /// (frames at most 4.8 ms where six a slice took 13 ms each; `docs/PERFORMANCE.md`).
 pub const SAMPLES_PER_SLICE: usize = 1;
+
+/// Steps a search goes on with a valid best grasp that pushes from one side only, looking for
+/// one that pushes from every side ([`EvaluationContext::pushes_from_every_side`]), before its
+/// stop rule may end it. Measured on power grasps of ten objects, seeds 1–4 (docs/QUALITY.md,
+/// session 27): the Shadow hand returns 15 one-sided grasps of 38 after 15 steps, 9 after 60,
+/// 6 after 120, 5 with no limit (its sphere grasps of seeds 3 and 4 push from every side after
+/// 107 and 116 steps), its torus search taking 10 ms before the ranking, 45 ms after 60 steps,
+/// 81 ms after 120 and 285 ms with no limit (medians); the human hand returns none after 30.
+const ONE_SIDED_PATIENCE: u32 = 120;
 
 impl<'a> GraspPlanner<'a> {
     /// Sets up the search: nearest hook, starting position (or the initial approximation), and
@@ -308,6 +319,7 @@ impl<'a> GraspPlanner<'a> {
             best_valid: None,
             status: PlannerStatus::Searching,
             since_improvement: 0,
+            one_sided_steps: 0,
             axis: 0,
             stats: SearchStats::default(),
             workspaces: (0..threads).map(|_| Workspace::new(hand)).collect(),
@@ -338,6 +350,7 @@ impl<'a> GraspPlanner<'a> {
         self.best_valid = None;
         self.status = PlannerStatus::Searching;
         self.since_improvement = 0;
+        self.one_sided_steps = 0;
         // A step in progress was around the old start: drop it.
         self.step_size = 0;
         self.results.iter_mut().for_each(|r| *r = None);
@@ -373,7 +386,7 @@ impl<'a> GraspPlanner<'a> {
             && self
                 .best_valid
                 .as_ref()
-                .is_none_or(|b| e.quality > b.quality)
+                .is_none_or(|b| self.ctx.rank(e) > self.ctx.rank(b))
         {
             self.best_valid = Some(e.clone());
             self.best_told = false;
@@ -483,10 +496,9 @@ impl<'a> GraspPlanner<'a> {
                 continue;
             }
             self.consider_best(&e);
-            // Beyond the thesis: a valid grasp beats an invalid one whatever their qualities.
-            if (e.validity.is_ok(), e.quality)
-                > (self.current.validity.is_ok(), self.current.quality)
-            {
+            // Beyond the thesis: a valid grasp beats an invalid one whatever their qualities,
+            // and one that pushes from every side a one-sided one (`EvaluationContext::rank`).
+            if self.ctx.rank(&e) > self.ctx.rank(&self.current) {
                 self.current = e;
                 improved = true;
             }
@@ -496,11 +508,23 @@ impl<'a> GraspPlanner<'a> {
         } else {
             self.since_improvement + 1
         };
+        if self
+            .best_valid
+            .as_ref()
+            .is_some_and(|b| !self.ctx.pushes_from_every_side(b))
+        {
+            self.one_sided_steps += 1;
+        }
         self.status = match self.params.stop {
             StopRule::ThesisLocalMaximum if !improved => PlannerStatus::Converged,
-            // Without a valid grasp yet, keep exploring up to the step limit.
+            // Without a valid grasp yet, keep exploring up to the step limit; with only one
+            // that pushes from one side, for `ONE_SIDED_PATIENCE` steps more.
             StopRule::NoImprovement { steps }
-                if self.since_improvement >= steps && self.best_valid.is_some() =>
+                if self.since_improvement >= steps
+                    && self.best_valid.as_ref().is_some_and(|b| {
+                        self.ctx.pushes_from_every_side(b)
+                            || self.one_sided_steps >= ONE_SIDED_PATIENCE
+                    }) =>
             {
                 PlannerStatus::Converged
             }
@@ -538,11 +562,15 @@ impl<'a> GraspPlanner<'a> {
             if !self.ctx.stability_pending(e) {
                 continue;
             }
-            let beats_current = self.current.validity.is_err() || e.quality > self.current.quality;
-            let beats_best = self
-                .best_valid
-                .as_ref()
-                .is_none_or(|b| e.quality > b.quality);
+            // A pending pose may yet push from every side: it can beat a one-sided pose of
+            // any quality.
+            let can_beat = |other: &Evaluation| {
+                other.validity.is_err()
+                    || !self.ctx.pushes_from_every_side(other)
+                    || e.quality > other.quality
+            };
+            let beats_current = can_beat(&self.current);
+            let beats_best = self.best_valid.as_ref().is_none_or(can_beat);
             if !beats_current && !beats_best {
                 return true;
             }
@@ -553,7 +581,7 @@ impl<'a> GraspPlanner<'a> {
             let ws = &mut self.workspaces[0];
             ws.capsules.clone_from(&self.candidate_capsules[k]);
             self.ctx.judge_stability(e, ws);
-            if e.validity.is_ok() {
+            if e.validity.is_ok() && self.ctx.pushes_from_every_side(e) {
                 return true;
             }
         }
@@ -668,6 +696,7 @@ impl<'a> GraspPlanner<'a> {
         self.consider_best(&self.current.clone());
         self.status = PlannerStatus::Searching;
         self.since_improvement = 0;
+        self.one_sided_steps = 0;
         Ok(false)
     }
 
@@ -712,6 +741,7 @@ fn placeholder(rotation: Rotation) -> Evaluation {
         fingers_touching: 0,
         validity: Err(Invalid::NotEvaluated),
         closure_margin: None,
+        normal_cap: None,
     }
 }
 

@@ -57,7 +57,9 @@ pub enum ValidityRule {
     /// closure with the contact model's friction, contacts that push from more than one side
     /// (their normals not all within [`one_sided_cap`] of one direction, 78° at μ = 0.5), and
     /// for a movement with contact fingers the first two (thumb and index) pads opposed by at
-    /// least [`OPPOSITION_ANGLE`].
+    /// least [`OPPOSITION_ANGLE`]. The search ranks a wrap that pushes from every side above a
+    /// valid one-sided one ([`EvaluationContext::pushes_from_every_side`]), so a one-sided
+    /// grasp is returned only when none other is found.
     #[default]
     Holds,
     /// The thesis's rules only (§6.4.1): no penetration and enough fingers touching.
@@ -332,6 +334,9 @@ pub struct Evaluation {
     /// Force-closure margin of the pose's contacts, computed for poses that pass the other
     /// checks under [`ValidityRule::Holds`].
     pub closure_margin: Option<f64>,
+    /// Half-angle (radians) of the narrowest cone holding every contact normal, π/2 when they
+    /// push from every side ([`narrowest_normal_cap`]); computed with `closure_margin`.
+    pub normal_cap: Option<f64>,
 }
 
 /// What an evaluation needs besides the rotation.
@@ -400,6 +405,7 @@ impl EvaluationContext<'_> {
             fingers_touching: 0,
             validity: Ok(()),
             closure_margin: None,
+            normal_cap: None,
         };
         if !self.wrist_range.contains(&self.start, rotation) {
             eval.validity = Err(Invalid::OutsideWristRange);
@@ -449,6 +455,32 @@ impl EvaluationContext<'_> {
         self.validity.judges_contacts() && eval.validity.is_ok() && eval.closure_margin.is_none()
     }
 
+    /// Does the pose rank among the grasps that push from every side? Under
+    /// [`ValidityRule::Holds`] a wrap (a movement without contact fingers) whose contact normals
+    /// all lie in one open half-space is valid — friction holds it on paper — but ranks below
+    /// every valid wrap that pushes from every side, whatever their qualities: the search keeps
+    /// looking for one and returns the one-sided grasp only when it finds none
+    /// (docs/QUALITY.md, session 27). Every other pose ranks by validity and quality alone.
+    pub fn pushes_from_every_side(&self, eval: &Evaluation) -> bool {
+        self.validity != ValidityRule::Holds
+            || !self.movement.contact_fingers().is_empty()
+            || eval
+                .normal_cap
+                .is_none_or(|cap| cap >= std::f64::consts::FRAC_PI_2)
+    }
+
+    /// The order of poses in the search (higher is better): valid before invalid, among valid
+    /// ones [`EvaluationContext::pushes_from_every_side`] first, then quality (invalid poses
+    /// by quality alone).
+    pub fn rank(&self, eval: &Evaluation) -> (bool, bool, f64) {
+        let valid = eval.validity.is_ok();
+        (
+            valid,
+            valid && self.pushes_from_every_side(eval),
+            eval.quality,
+        )
+    }
+
     /// Does a pose's quality leave out its stability (weight 0), so that a search may judge the
     /// stability of only the poses whose validity could change what it does?
     pub fn quality_ignores_stability(&self) -> bool {
@@ -468,8 +500,10 @@ impl EvaluationContext<'_> {
             self.torque_scale,
         );
         eval.terms.stability = margin * self.torque_scale;
-        eval.validity = self.holds(margin, ws);
+        let cap = narrowest_normal_cap(ws.contacts.iter().map(|c| c.normal));
+        eval.validity = self.holds(margin, cap, ws);
         eval.closure_margin = Some(margin);
+        eval.normal_cap = Some(cap);
         eval.quality = self.quality(&eval.terms);
     }
 
@@ -504,13 +538,12 @@ impl EvaluationContext<'_> {
 
     /// Force closure, pushes from more than one side, and for a movement with contact fingers
     /// the opposition of the first two.
-    fn holds(&self, closure_margin: f64, ws: &Workspace) -> Result<(), Invalid> {
+    fn holds(&self, closure_margin: f64, cap: f64, ws: &Workspace) -> Result<(), Invalid> {
         if closure_margin <= 0.0 {
             return Err(Invalid::NoForceClosure {
                 contacts: ws.contacts.len(),
             });
         }
-        let cap = narrowest_normal_cap(ws.contacts.iter().map(|c| c.normal));
         let friction = self.contact_model.friction;
         let pinch = !self.movement.contact_fingers().is_empty();
         // The thesis's rule asks nothing of the normals (it never gets here).

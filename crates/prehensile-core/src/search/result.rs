@@ -2,7 +2,7 @@
 //! (`docs/RESULT_SCHEMA.md`). Everything is in metres and radians in the object's frame.
 
 use crate::math::{Rotation, Transform};
-use crate::stability::Stability;
+use crate::stability::{narrowest_normal_cap, Stability};
 use crate::workspace::Workspace;
 
 use super::planner::{GraspPlanner, PlannerStatus, SearchStats};
@@ -138,6 +138,10 @@ pub struct GraspResult {
     /// Force closure, ε and the load held along each axis, for these contacts (computed whatever
     /// the validity rule).
     pub stability: Stability,
+    /// Half-angle, degrees, of the narrowest cone holding every contact normal: 90 when the
+    /// contacts push from every side, less when they all push the object one way and friction
+    /// alone keeps it in the hand.
+    pub normal_cone_degrees: f64,
     /// Search statistics.
     pub stats: SearchStats,
 }
@@ -154,6 +158,8 @@ impl GraspResult {
     fn from_pose(planner: &GraspPlanner, e: &Evaluation, ws: &mut Workspace) -> Self {
         let ctx = planner.context();
         let stability = ctx.stability(ws);
+        let normal_cone_degrees =
+            narrowest_normal_cap(ws.contacts.iter().map(|c| c.normal)).to_degrees();
         let hand = ctx.hand;
         let finger_name = |b: usize| {
             hand.bones()[b]
@@ -230,6 +236,7 @@ impl GraspResult {
                 })
                 .collect(),
             stability,
+            normal_cone_degrees,
             stats: planner.stats(),
         }
     }
