@@ -422,6 +422,13 @@ impl GraspResultPy {
         points(py, self.result.contacts.iter().map(|c| c.normal))
     }
 
+    /// Half-angle, degrees, of the narrowest cone holding every contact normal: 90 when the
+    /// contacts push from every side, less when they all push the object one way.
+    #[getter]
+    fn normal_cone_degrees(&self) -> f64 {
+        self.result.normal_cone_degrees
+    }
+
     /// Force closure, Ferrari–Canny epsilon and load ratios, as a dict.
     #[getter]
     fn stability<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {

@@ -44,6 +44,15 @@ def test_results_come_as_numpy_arrays():
     assert np.allclose(result.capsule_radii, [c["radius"] for c in record["capsules"]])
     assert np.allclose(np.linalg.norm(result.contact_normals, axis=1), 1.0)
     assert result.stability["force_closure"] is True
+    # The cone of the normals, checked by brute force over directions on a sphere.
+    k = np.arange(20000) + 0.5
+    z = 1 - 2 * k / len(k)
+    phi = np.pi * (3 - np.sqrt(5)) * k
+    directions = np.stack([np.sqrt(1 - z * z) * np.cos(phi), np.sqrt(1 - z * z) * np.sin(phi), z], 1)
+    worst = np.clip((directions @ result.contact_normals.T).min(axis=1), 0, 1)
+    sampled = np.degrees(np.arccos(worst.max()))
+    assert 0 <= sampled - result.normal_cone_degrees < 1.0
+    assert result.normal_cone_degrees == record["normal_cone_degrees"]
     limits = hand.joint_limits
     assert np.all(result.joint_angles >= limits[:, 0] - 1e-9)
     assert np.all(result.joint_angles <= limits[:, 1] + 1e-9)
