@@ -935,6 +935,14 @@ fn the_default_rule_prefers_wraps_that_push_from_every_side_and_strict_refuses_t
             "the default grasp's normals: {cap:.1}°"
         );
     }
+    // With only a one-sided grasp the search went on looking for 120 steps (it would have
+    // stopped 12 steps after its last improvement), then stopped (not at the 500-step limit).
+    assert_eq!(default_sphere.status, PlannerStatus::Converged);
+    assert!(
+        (120..500).contains(&default_sphere.stats.steps),
+        "{} steps",
+        default_sphere.stats.steps
+    );
     let wrap = strict(&human, &torus, "power", 2);
     assert!(wrap.valid, "{:?}", wrap.invalid_reason);
     let cap = sampled_normal_cap(&wrap);
