@@ -294,6 +294,12 @@ pub struct GraspArgs {
     /// touching, §6.4.1).
     #[arg(long, default_value_t = ValidityRule::default())]
     pub validity: ValidityRule,
+    /// With only a power grasp whose contacts all push from one side (valid under `holds`:
+    /// friction holds it), go on looking this many steps for one that pushes from every side;
+    /// 0 takes the first as before session 27 (faster where there is none, e.g. the Shadow
+    /// hand's torus: 10 ms instead of 84).
+    #[arg(long, default_value_t = prehensile_core::search::ONE_SIDED_PATIENCE)]
+    pub one_sided_patience: u32,
     /// Stop after this many milliseconds (default: run until converged).
     #[arg(long)]
     pub budget_ms: Option<f64>,

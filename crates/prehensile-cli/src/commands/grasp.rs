@@ -180,6 +180,7 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
                     stability,
                 }),
             validity: args.validity,
+            one_sided_patience: args.one_sided_patience,
             contact_model: ContactModel {
                 friction: args.friction,
                 ..ContactModel::default()

@@ -157,6 +157,38 @@ fn a_grasp_is_the_same_on_any_number_of_threads() {
 }
 
 #[test]
+fn one_sided_patience_trades_a_grasp_pushing_from_every_side_for_time() {
+    // The Shadow hand's sphere grasp of seed 3 is one-sided at first; going on looking (the
+    // default) finds one that pushes from every side, `--one-sided-patience 0` returns the
+    // first, after fewer steps.
+    let run = |patience: &str| {
+        let json = scratch(&format!("shadow_sphere_patience_{patience}.json"));
+        let out = prehensile(&[
+            "grasp",
+            "--hand",
+            &asset("hands/shadow_hand/reach.xml"),
+            "--movement",
+            "power",
+            "--seed",
+            "3",
+            "--one-sided-patience",
+            patience,
+            "--out",
+            json.to_str().unwrap(),
+        ]);
+        assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+        let r: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+        (
+            r["normal_cone_degrees"].as_f64().unwrap(),
+            r["stats"]["steps"].as_u64().unwrap(),
+        )
+    };
+    let (patient, quick) = (run("120"), run("0"));
+    assert!(patient.0 >= 90.0 && quick.0 < 90.0, "{patient:?} {quick:?}");
+    assert!(quick.1 < patient.1, "{patient:?} {quick:?}");
+}
+
+#[test]
 fn hands_lists_the_builtins() {
     let out = prehensile(&["hands", "--json"]);
     assert_eq!(out.status.code(), Some(0));

@@ -19,7 +19,7 @@ pub use find_grasp::{
 pub use optimization_step::StepKind;
 pub use planner::{
     GraspPlanner, PlannerStatus, SearchError, SearchParams, SearchSink, SearchStats, StopRule,
-    SAMPLES_PER_SLICE,
+    ONE_SIDED_PATIENCE, SAMPLES_PER_SLICE,
 };
 pub use quality::{
     one_sided_cap, Evaluation, Invalid, QualityTerms, QualityWeights, ValidityRule, ONE_SIDED_CAP,

@@ -83,10 +83,21 @@ pub struct SearchParams {
     /// Only when the quality leaves stability out (its weight S is 0, the default).
     #[serde(default = "judge_lazily")]
     pub lazy_stability: bool,
+    /// Steps a search goes on with a valid best grasp that pushes from one side only, looking
+    /// for one that pushes from every side, before its stop rule may end it (under
+    /// [`ValidityRule::Holds`]; see [`EvaluationContext::pushes_from_every_side`]). 0 stops as
+    /// soon as the stop rule says, as before session 27: faster on objects where no such grasp
+    /// is found (the Shadow hand's torus: 84 ms at 120, docs/QUALITY.md).
+    #[serde(default = "one_sided_patience")]
+    pub one_sided_patience: u32,
 }
 
 fn judge_lazily() -> bool {
     true
+}
+
+fn one_sided_patience() -> u32 {
+    ONE_SIDED_PATIENCE
 }
 
 impl Default for SearchParams {
@@ -109,6 +120,7 @@ impl Default for SearchParams {
             validity: ValidityRule::default(),
             contact_model: ContactModel::default(),
             lazy_stability: true,
+            one_sided_patience: ONE_SIDED_PATIENCE,
         }
     }
 }
@@ -240,14 +252,13 @@ enum Restart {
 /// (frames at most 4.8 ms where six a slice took 13 ms each; `docs/PERFORMANCE.md`).
 pub const SAMPLES_PER_SLICE: usize = 1;
 
-/// Steps a search goes on with a valid best grasp that pushes from one side only, looking for
-/// one that pushes from every side ([`EvaluationContext::pushes_from_every_side`]), before its
-/// stop rule may end it. Measured on power grasps of ten objects, seeds 1–4 (docs/QUALITY.md,
+/// The default [`SearchParams::one_sided_patience`]: steps a search goes on with a valid best
+/// grasp that pushes from one side only, looking for one that pushes from every side. Measured on power grasps of ten objects, seeds 1–4 (docs/QUALITY.md,
 /// session 27): the Shadow hand returns 15 one-sided grasps of 38 after 15 steps, 9 after 60,
 /// 6 after 120, 5 with no limit (its sphere grasps of seeds 3 and 4 push from every side after
 /// 107 and 116 steps), its torus search taking 10 ms before the ranking, 45 ms after 60 steps,
 /// 81 ms after 120 and 285 ms with no limit (medians); the human hand returns none after 30.
-const ONE_SIDED_PATIENCE: u32 = 120;
+pub const ONE_SIDED_PATIENCE: u32 = 120;
 
 impl<'a> GraspPlanner<'a> {
     /// Sets up the search: nearest hook, starting position (or the initial approximation), and
@@ -518,12 +529,12 @@ impl<'a> GraspPlanner<'a> {
         self.status = match self.params.stop {
             StopRule::ThesisLocalMaximum if !improved => PlannerStatus::Converged,
             // Without a valid grasp yet, keep exploring up to the step limit; with only one
-            // that pushes from one side, for `ONE_SIDED_PATIENCE` steps more.
+            // that pushes from one side, for `one_sided_patience` steps more.
             StopRule::NoImprovement { steps }
                 if self.since_improvement >= steps
                     && self.best_valid.as_ref().is_some_and(|b| {
                         self.ctx.pushes_from_every_side(b)
-                            || self.one_sided_steps >= ONE_SIDED_PATIENCE
+                            || self.one_sided_steps >= self.params.one_sided_patience
                     }) =>
             {
                 PlannerStatus::Converged
