@@ -92,6 +92,24 @@ impl GraspMovement {
         }
     }
 
+    /// The degrees of freedom the via pose turns off their straight start–end way, with their
+    /// via angles (`None` for the others), and its fraction: what [`GraspMovement::through`]
+    /// takes to give a movement with other start or end angles the same detour. `None` without
+    /// a via pose.
+    pub fn via_detour(&self) -> Option<(f64, Vec<Option<f64>>)> {
+        let via = self.via.as_ref()?;
+        let detour = via
+            .angles
+            .iter()
+            .zip(self.start_angles.iter().zip(&self.end_angles))
+            .map(|(&v, (s, e))| {
+                let straight = s + via.fraction * (e - s);
+                ((v - straight).abs() > 1e-12).then_some(v)
+            })
+            .collect();
+        Some((via.fraction, detour))
+    }
+
     /// This movement passing through `angles` (limits and couplings applied) at `fraction` of
     /// its closing; `None` angles of a degree of freedom keep it on its straight way (the
     /// start–end interpolation at `fraction`). Errors if `fraction` is not strictly between 0

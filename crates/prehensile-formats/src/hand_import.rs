@@ -198,7 +198,13 @@ impl MovementOverride {
             (None, Some(m)) => m.contact_fingers().to_vec(),
             (None, None) => Vec::new(),
         };
-        let movement = GraspMovement::to_end_pose(hand, name, end, center, fingers);
+        let mut movement = GraspMovement::to_end_pose(hand, name, end, center, fingers);
+        // A derived movement's detour (the power thumb's swing out of the palm) is kept.
+        if let Some((fraction, detour)) = existing.and_then(GraspMovement::via_detour) {
+            movement = movement
+                .through(hand, fraction, &detour)
+                .map_err(|e| err(e.to_string()))?;
+        }
         hand.set_movement(movement);
         Ok(())
     }

@@ -197,6 +197,14 @@ fn a_sidecar_changes_a_derived_movement_and_adds_one() {
         assert_eq!(changed.end_angles()[k], power.end_angles()[k], "joint {k}");
     }
     assert_eq!(changed.grasp_center(), power.grasp_center());
+    // The derived thumb's swing out of the palm (the via pose) is kept; the index, whose end
+    // changed, goes straight to it.
+    let (fraction, detour) = power
+        .via_detour()
+        .expect("the derived power has a via pose");
+    assert_eq!(changed.via_detour(), Some((fraction, detour.clone())));
+    assert!(detour.iter().any(Option::is_some));
+    assert_eq!(detour[dof("index_proximal_flexion")], None);
     // hook: a new movement from the open pose.
     let hook = hand.movement("hook").unwrap();
     assert_eq!(hook.end_angles()[dof("middle_proximal_flexion")], 1.1);
