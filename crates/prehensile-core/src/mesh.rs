@@ -840,34 +840,27 @@ mod tests {
         // A crafted mesh of 200,000 copies of one face, wound both ways in turn plus one more
         // one way: every pair cancels, in one pass over them (the pairing used to rescan the
         // copies for every pair, quadratic in their number).
-        let (p, mut t) = tetra();
-        let face = t[0];
-        for k in 0..200_001 {
-            t.push(if k % 2 == 0 {
-                [face[0], face[2], face[1]]
-            } else {
-                face
-            });
-        }
-        let (fixed, dropped) = TriangleMesh::weld(&p, &t)
-            .unwrap()
-            .drop_cancelling_triangles();
+        // The tetrahedron and `n` more copies of its first face, copy k turned if `turned(k)`.
+        let with_copies = |n: usize, turned: &dyn Fn(usize) -> bool| {
+            let (p, mut t) = tetra();
+            let face = t[0];
+            for k in 0..n {
+                t.push(if turned(k) {
+                    [face[0], face[2], face[1]]
+                } else {
+                    face
+                });
+            }
+            TriangleMesh::weld(&p, &t)
+                .unwrap()
+                .drop_cancelling_triangles()
+        };
+        let (fixed, dropped) = with_copies(200_001, &|k| k % 2 == 0);
         assert_eq!(dropped.cancelling_pairs, 100_001);
         assert_eq!(dropped.duplicates, 0);
         assert_eq!(fixed.triangles.len(), 4 - 1 + 200_001 - 2 * 100_001 + 1);
         // 200,000 copies wound one way and 3 the other: 3 pairs cancel, one copy stays.
-        let (p, mut t) = tetra();
-        let face = t[0];
-        for k in 0..200_003 {
-            t.push(if k < 3 {
-                [face[0], face[2], face[1]]
-            } else {
-                face
-            });
-        }
-        let (fixed, dropped) = TriangleMesh::weld(&p, &t)
-            .unwrap()
-            .drop_cancelling_triangles();
+        let (fixed, dropped) = with_copies(200_003, &|k| k < 3);
         assert_eq!(dropped.cancelling_pairs, 3);
         assert_eq!(dropped.duplicates, 200_000 + 1 - 3 - 1);
         let sorted = |mut t: Vec<[u32; 3]>| {
