@@ -14,6 +14,14 @@
 
 use crate::math::Vec3;
 
+/// Normals that fit an open hemisphere by a cosine smaller than this (a cap within 6·10⁻⁸° of
+/// 90°) count as not fitting it. A box held on two opposite faces and a third at right angles
+/// has its normals exactly on a hemisphere's edge, and rounding must not decide on which side
+/// of it a grasp falls: it did, when the search began to rank such grasps (session 27), and
+/// the WebAssembly build and the native one, whose results differ in the last bits, took
+/// different paths on the cartoon hand's box.
+const HEMISPHERE_SLACK: f64 = 1e-9;
+
 /// The half-angle, radians, of the narrowest cone about some direction that contains every unit
 /// vector in `normals`; π/2 when they do not all fit in an open hemisphere (none, or normals
 /// that push from opposite sides), which is what a grasp that squeezes needs.
@@ -48,7 +56,11 @@ pub fn narrowest_normal_cap(normals: impl Iterator<Item = Vec3> + Clone) -> f64 
             }
         }
     }
-    best.clamp(0.0, 1.0).acos()
+    if best <= HEMISPHERE_SLACK {
+        std::f64::consts::FRAC_PI_2
+    } else {
+        best.min(1.0).acos()
+    }
 }
 
 #[cfg(test)]
@@ -69,6 +81,13 @@ mod tests {
         assert_eq!(degrees(&[fingers, [-Vec3::x(); 4]].concat()), 90.0);
         assert_eq!(degrees(&[x, -x, Vec3::y(), -Vec3::y()]), 90.0);
         assert_eq!(degrees(&[]), 90.0);
+        // On a hemisphere's edge, give or take rounding: not one-sided.
+        for tilt in [-1e-13, 0.0, 1e-13] {
+            let z = Vec3::z() * tilt;
+            assert_eq!(degrees(&[x + z, -x + z, Vec3::y() + z]), 90.0);
+        }
+        // Clearly off it: one-sided.
+        assert!(degrees(&[x + Vec3::z() * 1e-6, -x + Vec3::z() * 1e-6]) < 90.0);
     }
 
     #[test]
