@@ -15,7 +15,7 @@ use prehensile_core::mesh::TriangleMesh;
 use prehensile_core::object::MeshCheck;
 use prehensile_core::search::{
     default_shoulder, find_grasp, GraspRequest, GraspResult, PlannerStatus, QualityWeights,
-    SearchParams, SharedPlanner, ValidityRule,
+    SearchParams, SharedPlanner, ValidityRule, ONE_SIDED_PATIENCE,
 };
 use prehensile_core::stability::ContactModel;
 use prehensile_core::{HandModel, ObjectModel};
@@ -515,6 +515,7 @@ fn search_params(
     weights: Option<Vec<f64>>,
     friction: f64,
     validity: &str,
+    one_sided_patience: u32,
 ) -> PyResult<SearchParams> {
     let weights = match weights.as_deref() {
         None => None,
@@ -551,6 +552,7 @@ fn search_params(
         up: up_axis(up)?,
         weights,
         validity: validity_rule(validity)?,
+        one_sided_patience,
         contact_model: ContactModel {
             friction,
             ..ContactModel::default()
@@ -574,9 +576,12 @@ fn hooked(object: Arc<ObjectModel>, hook: Option<[f64; 3]>) -> PyResult<Arc<Obje
 
 /// Searches a grasp of `object` by `hand` (each a model, a built-in name or a file), exactly as
 /// `prehensile grasp` does; with `hold=True` also runs the rapier hold test.
+/// `one_sided_patience` is `--one-sided-patience`: steps to go on looking past a grasp whose
+/// contacts all push from one side.
 #[pyfunction]
 #[pyo3(signature = (hand, object, movement = "auto", *, shoulder = None, hook = None, up = "z",
-    seed = 1, weights = None, friction = 0.5, validity = "holds", budget_ms = None, hold = false))]
+    seed = 1, weights = None, friction = 0.5, validity = "holds", budget_ms = None, hold = false,
+    one_sided_patience = ONE_SIDED_PATIENCE))]
 #[allow(clippy::too_many_arguments)]
 fn grasp(
     py: Python<'_>,
@@ -592,10 +597,11 @@ fn grasp(
     validity: &str,
     budget_ms: Option<f64>,
     hold: bool,
+    one_sided_patience: u32,
 ) -> PyResult<GraspResultPy> {
     let hand = hand_of(py, hand)?;
     let object = hooked(object_of(py, object)?, hook)?;
-    let params = search_params(seed, up, weights, friction, validity)?;
+    let params = search_params(seed, up, weights, friction, validity, one_sided_patience)?;
     let budget = match budget_ms {
         None => None,
         Some(ms) if ms.is_finite() && ms > 0.0 && ms <= 86_400_000.0 => {
@@ -668,7 +674,8 @@ fn status_name(s: PlannerStatus) -> &'static str {
 impl Planner {
     #[new]
     #[pyo3(signature = (hand, object, movement = "power", *, shoulder = None, hook = None,
-        up = "z", seed = 1, weights = None, friction = 0.5, validity = "holds"))]
+        up = "z", seed = 1, weights = None, friction = 0.5, validity = "holds",
+        one_sided_patience = ONE_SIDED_PATIENCE))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -682,10 +689,11 @@ impl Planner {
         weights: Option<Vec<f64>>,
         friction: f64,
         validity: &str,
+        one_sided_patience: u32,
     ) -> PyResult<Self> {
         let hand = hand_of(py, hand)?;
         let object = hooked(object_of(py, object)?, hook)?;
-        let params = search_params(seed, up, weights, friction, validity)?;
+        let params = search_params(seed, up, weights, friction, validity, one_sided_patience)?;
         let shoulder = shoulder
             .map(Point3::from)
             .unwrap_or_else(|| default_shoulder(&hand, &object.hooks()[0], &params.up));

@@ -232,3 +232,13 @@ def test_a_ray_worker_that_dies_is_recorded_and_a_rerun_finishes(tmp_path, monke
     import pandas
 
     assert sorted(pandas.read_parquet(out).object) == ["box", "sphere"]
+
+
+def test_one_sided_patience_trades_a_grasp_pushing_from_every_side_for_time():
+    shadow = prehensile.Hand(os.path.join(ROOT, "assets", "hands", "shadow_hand", "reach.xml"))
+    patient = prehensile.grasp(shadow, "sphere", "power", seed=3)
+    quick = prehensile.grasp(shadow, "sphere", "power", seed=3, one_sided_patience=0)
+    assert patient.normal_cone_degrees == 90.0 and quick.normal_cone_degrees < 90.0
+    assert quick.stats["steps"] < patient.stats["steps"]
+    with pytest.raises(OverflowError):
+        prehensile.grasp(shadow, "sphere", "power", one_sided_patience=-1)
