@@ -119,13 +119,22 @@ pub fn find_grasp(
     } else {
         search_in_turn(hand, object, request, &movements, sink)?
     };
-    let mut best: Option<GraspResult> = None;
-    for result in contenders(hand, &planners, request.params.threads) {
-        if best.as_ref().is_none_or(|b| better_grasp(&result, b)) {
-            best = Some(result);
+    // As within one search, a valid grasp that pushes from every side beats a one-sided wrap
+    // whatever their ε (`EvaluationContext::rank`); then `better_grasp` decides.
+    let mut best: Option<(bool, GraspResult)> = None;
+    for (every_side, result) in contenders(hand, &planners, request.params.threads) {
+        let beats = |(best_every_side, b): &(bool, GraspResult)| {
+            (result.valid, every_side) > (b.valid, *best_every_side)
+                || ((result.valid, every_side) == (b.valid, *best_every_side)
+                    && better_grasp(&result, b))
+        };
+        if best.as_ref().is_none_or(beats) {
+            best = Some((every_side, result));
         }
     }
-    Ok(best.expect("movements_to_try returns at least one movement"))
+    Ok(best
+        .expect("movements_to_try returns at least one movement")
+        .1)
 }
 
 /// The planner of one movement of the request.
@@ -225,16 +234,29 @@ fn search_in_turn<'a>(
 /// an invalid result never beats a valid one ([`better_grasp`]), so they are not computed for a
 /// search that lost. With `threads` above 1 the results are computed side by side on rayon's
 /// pool; each is the same on any thread.
-fn contenders(hand: &HandModel, planners: &[GraspPlanner], threads: usize) -> Vec<GraspResult> {
+///
+/// Each comes with whether its search's best grasp pushes from every side
+/// ([`crate::search::quality::EvaluationContext::pushes_from_every_side`]).
+fn contenders(
+    hand: &HandModel,
+    planners: &[GraspPlanner],
+    threads: usize,
+) -> Vec<(bool, GraspResult)> {
     let any_valid = planners.iter().any(|p| p.best().is_some());
     let can_win: Vec<&GraspPlanner> = planners
         .iter()
         .filter(|p| !any_valid || p.best().is_some())
         .collect();
+    let contender = |p: &&GraspPlanner| {
+        let every_side = p
+            .best()
+            .is_some_and(|b| p.context().pushes_from_every_side(b));
+        (every_side, result(hand, p))
+    };
     if threads > 1 && can_win.len() > 1 {
-        can_win.par_iter().map(|p| result(hand, p)).collect()
+        can_win.par_iter().map(contender).collect()
     } else {
-        can_win.iter().map(|p| result(hand, p)).collect()
+        can_win.iter().map(contender).collect()
     }
 }
 

@@ -950,6 +950,22 @@ fn the_default_rule_prefers_wraps_that_push_from_every_side_and_strict_refuses_t
         "{} steps",
         default_sphere.stats.steps
     );
+    // `auto` ranks the same way across movements: the cartoon hand's pinch of the sphere,
+    // whose pads oppose, beats that one-sided wrap although the wrap's ε is larger.
+    let auto = prehensile_core::search::find_grasp(
+        &cartoon,
+        &sphere,
+        &prehensile_core::search::GraspRequest {
+            movement: prehensile_core::search::AUTO_MOVEMENT.into(),
+            shoulder: sphere.center_of_mass() + Vec3::from(SHOULDERS[0]),
+            params: SearchParams::default(),
+            budget: None,
+        },
+        &mut (),
+    )
+    .unwrap();
+    assert_eq!(auto.movement, "precision");
+    assert!(auto.valid && auto.stability.epsilon < default_sphere.stability.epsilon);
     // Without that patience it stops as before session 27, sooner, with a one-sided grasp.
     let params = SearchParams {
         one_sided_patience: 0,
