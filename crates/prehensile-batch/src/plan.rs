@@ -65,6 +65,14 @@ pub struct BatchOptions {
     pub validity: ValidityRule,
     /// Coulomb friction of the contacts.
     pub friction: f64,
+    /// Steps to go on looking past a one-sided power grasp
+    /// ([`SearchParams::one_sided_patience`](prehensile_core::search::SearchParams)).
+    #[serde(default = "one_sided_patience")]
+    pub one_sided_patience: u32,
+}
+
+fn one_sided_patience() -> u32 {
+    prehensile_core::search::ONE_SIDED_PATIENCE
 }
 
 impl Default for BatchOptions {
@@ -75,6 +83,7 @@ impl Default for BatchOptions {
             up: 'z',
             validity: ValidityRule::default(),
             friction: 0.5,
+            one_sided_patience: one_sided_patience(),
         }
     }
 }

@@ -157,6 +157,7 @@ fn run_attempt(
             seed: attempt.seed,
             up,
             validity: plan.options.validity,
+            one_sided_patience: plan.options.one_sided_patience,
             contact_model: ContactModel {
                 friction: plan.options.friction,
                 ..ContactModel::default()

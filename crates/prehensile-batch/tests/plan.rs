@@ -66,3 +66,16 @@ fn folders_and_patterns_expand_to_sorted_mesh_files() {
     assert!(expand_objects(&[format!("{d}/sub/none")]).unwrap().len() == 1);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn a_plan_written_before_one_sided_patience_reads_with_its_default() {
+    // Session 27 added the option; a manifest from before it resumes with the default.
+    let mut json = serde_json::to_value(BatchOptions::default()).unwrap();
+    json.as_object_mut().unwrap().remove("one_sided_patience");
+    let read: BatchOptions = serde_json::from_value(json).unwrap();
+    assert_eq!(
+        read.one_sided_patience,
+        prehensile_core::search::ONE_SIDED_PATIENCE
+    );
+    assert_eq!(read, BatchOptions::default());
+}

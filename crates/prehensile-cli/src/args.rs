@@ -109,6 +109,10 @@ pub struct BatchArgs {
     /// Which grasps are valid: holds, strict or thesis (see `prehensile grasp --help`).
     #[arg(long, default_value_t = ValidityRule::default())]
     pub validity: ValidityRule,
+    /// Steps to go on looking past a power grasp whose contacts all push from one side (see
+    /// `prehensile grasp --help`).
+    #[arg(long, default_value_t = prehensile_core::search::ONE_SIDED_PATIENCE)]
+    pub one_sided_patience: u32,
     /// Worker threads (default: one per core).
     #[arg(long)]
     pub threads: Option<usize>,

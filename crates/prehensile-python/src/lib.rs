@@ -836,7 +836,8 @@ fn simulate<'py>(
 #[pyfunction]
 #[pyo3(signature = (out, *, hands = vec!["human".to_string()], objects = None,
     movements = vec!["auto".to_string()], shoulders = vec!["default".to_string()], seeds = 1,
-    units = "m", scale = 1.0, up = "z", friction = 0.5, validity = "holds", flush_rows = 256))]
+    units = "m", scale = 1.0, up = "z", friction = 0.5, validity = "holds", flush_rows = 256,
+    one_sided_patience = ONE_SIDED_PATIENCE))]
 #[allow(clippy::too_many_arguments)]
 fn batch<'py>(
     py: Python<'py>,
@@ -852,6 +853,7 @@ fn batch<'py>(
     friction: f64,
     validity: &str,
     flush_rows: usize,
+    one_sided_patience: u32,
 ) -> PyResult<Bound<'py, PyDict>> {
     use prehensile_batch::{expand_objects, run_batch, BatchOptions, BatchPlan, Shoulder};
     if seeds == 0 || seeds > 1_000_000 {
@@ -885,6 +887,7 @@ fn batch<'py>(
             up,
             validity: validity_rule(validity)?,
             friction,
+            one_sided_patience,
         },
     };
     let summary = py

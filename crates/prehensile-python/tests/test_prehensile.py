@@ -242,3 +242,16 @@ def test_one_sided_patience_trades_a_grasp_pushing_from_every_side_for_time():
     assert quick.stats["steps"] < patient.stats["steps"]
     with pytest.raises(OverflowError):
         prehensile.grasp(shadow, "sphere", "power", one_sided_patience=-1)
+
+
+def test_a_batch_takes_the_one_sided_patience(tmp_path):
+    pandas = pytest.importorskip("pandas")
+    shadow = os.path.join(ROOT, "assets", "hands", "shadow_hand", "reach.xml")
+    steps = {}
+    for patience in (0, 120):
+        out = tmp_path / f"patience{patience}"
+        prehensile.batch(str(out), hands=[shadow], objects=["sphere"], movements=["power"],
+                         seeds=3, one_sided_patience=patience)
+        table = pandas.read_parquet(out)
+        steps[patience] = int(table[table.seed == 3].steps.iloc[0])
+    assert steps[0] < steps[120]

@@ -74,6 +74,7 @@ pub fn run(args: &BatchArgs) -> Result<i32, CliError> {
             up,
             validity: args.validity,
             friction: args.friction,
+            one_sided_patience: args.one_sided_patience,
         },
     };
     let bar = ProgressBar::new(plan.attempt_count() as u64);

@@ -131,7 +131,8 @@ def simulate(scenario: str = "grasp", *, hand: Optional[HandLike] = None,
 def batch(out: str, *, hands: Sequence[str] = ..., objects: Optional[Sequence[str]] = None,
           movements: Sequence[str] = ..., shoulders: Sequence[str] = ..., seeds: int = 1,
           units: str = "m", scale: float = 1.0, up: str = "z", friction: float = 0.5,
-          validity: str = "holds", flush_rows: int = 256) -> dict[str, int]: ...
+          validity: str = "holds", flush_rows: int = 256,
+          one_sided_patience: int = 120) -> dict[str, int]: ...
 
 def expand_objects(objects: Sequence[str]) -> list[str]: ...
 

@@ -60,7 +60,8 @@ def _write_shard(out, name, files):
 
 
 def run(hands, objects, out, movements=("auto",), shoulders=("default",), seeds=1, units="m",
-        scale=1.0, up="z", friction=0.5, validity="holds", max_retries=2, progress=True):
+        scale=1.0, up="z", friction=0.5, validity="holds", max_retries=2, progress=True,
+        one_sided_patience=120):
     """Runs the batch on the connected Ray cluster (call ``ray.init`` first, or let this call it
     with its defaults). Returns a summary dict."""
     import ray
@@ -71,7 +72,7 @@ def run(hands, objects, out, movements=("auto",), shoulders=("default",), seeds=
     hands = list(hands)
     settings = dict(movements=list(movements), shoulders=list(shoulders), seeds=int(seeds),
                     units=units, scale=float(scale), up=up, friction=float(friction),
-                    validity=validity)
+                    validity=validity, one_sided_patience=int(one_sided_patience))
     plan = dict(hands=hands, objects=objects, **settings)
     os.makedirs(out, exist_ok=True)
     manifest_path = os.path.join(out, "_manifest.json")
@@ -147,6 +148,8 @@ def main(argv=None):
     ap.add_argument("--up", default="z", choices=["x", "y", "z"])
     ap.add_argument("--friction", type=float, default=0.5)
     ap.add_argument("--validity", default="holds", choices=["holds", "strict", "thesis"])
+    ap.add_argument("--one-sided-patience", type=int, default=120,
+                    help="steps to look past a power grasp whose contacts push from one side")
     ap.add_argument("--address", default=None,
                     help="Ray cluster address (e.g. auto); default: start a local one")
     ap.add_argument("--num-cpus", type=int, default=None, help="CPUs of a local cluster")
@@ -156,7 +159,8 @@ def main(argv=None):
     ray.init(address=args.address, num_cpus=args.num_cpus)
     try:
         summary = run(args.hands, args.objects, args.out, args.movements, args.shoulders,
-                      args.seeds, args.units, args.scale, args.up, args.friction, args.validity)
+                      args.seeds, args.units, args.scale, args.up, args.friction, args.validity,
+                      one_sided_patience=args.one_sided_patience)
     except prehensile.PrehensileError as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
