@@ -281,7 +281,7 @@ pub struct GraspArgs {
     /// result is the same on any number).
     #[arg(long)]
     pub threads: Option<usize>,
-    /// Quality weights G,F,T,W[,S] for gDist, fDist, tDist*, wDist and the stability term ε·L
+    /// Quality weights `G,F,T,W[,S]` for gDist, fDist, tDist*, wDist and the stability term ε·L
     /// (default: 5,1,0,1,0 for movements without contact fingers, Eq. 5.1; 5,0,1,1,0 for those
     /// with, Eq. 5.2; S defaults to 0).
     #[arg(long, value_parser = parse_weights)]

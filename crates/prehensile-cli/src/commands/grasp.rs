@@ -50,7 +50,7 @@ impl SearchSink for SpinnerSink {
     }
 }
 
-/// Runs the request (every movement for `auto`, see [`find_grasp`]) with a spinner on the
+/// Runs the request (every movement for `auto`, see [`find_grasp`](fn@find_grasp)) with a spinner on the
 /// terminal when `progress`, and returns the chosen result with the wall time it took.
 pub fn search(
     hand: &HandModel,

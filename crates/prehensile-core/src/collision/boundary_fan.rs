@@ -47,10 +47,10 @@ pub struct BoundaryFan {
 impl BoundaryFan {
     /// The fan over `mesh`'s [unbalanced edges](TriangleMesh::unbalanced_edges): for each
     /// connected part of them, triangles from the mean of its vertices over each of its edges.
-    /// Vertices within [`SEAM_WIDTH`] of the mesh's size are welded first, so that the two
+    /// Vertices within `SEAM_WIDTH` of the mesh's size are welded first, so that the two
     /// edges of a seam a hair apart cancel instead of making a fan each: S − F is then closed
     /// but for strips that narrow, which a line meets only by chance. `None` when the boundary
-    /// has more than [`MAX_FAN_TRIANGLES`] edges (a triangle soup): the fan would cost more
+    /// has more than `MAX_FAN_TRIANGLES` edges (a triangle soup): the fan would cost more
     /// than the winding tree.
     pub fn new(mesh: &TriangleMesh) -> Option<Self> {
         // Welding copies the mesh: not for one without a boundary (overlapping closed parts).

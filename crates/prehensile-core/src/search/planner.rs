@@ -134,7 +134,7 @@ pub trait SearchSink {
     fn improved(&mut self, _best: &Evaluation) {}
     /// Before the events of each movement a request tries; again whenever the events switch
     /// movement (movements searched side by side interleave, see
-    /// [`find_grasp`](super::find_grasp)).
+    /// [`find_grasp`](fn@super::find_grasp)).
     fn movement_started(&mut self, _name: &str) {}
 }
 
