@@ -253,8 +253,9 @@ enum Restart {
 pub const SAMPLES_PER_SLICE: usize = 1;
 
 /// The default [`SearchParams::one_sided_patience`]: steps a search goes on with a valid best
-/// grasp that pushes from one side only, looking for one that pushes from every side. Measured on power grasps of ten objects, seeds 1–4 (docs/QUALITY.md,
-/// session 27): the Shadow hand returns 15 one-sided grasps of 38 after 15 steps, 9 after 60,
+/// grasp that pushes from one side only, looking for one that pushes from every side.
+/// Measured on power grasps of ten objects, seeds 1–4 (docs/QUALITY.md, session 27): the Shadow
+/// hand returns 15 one-sided grasps of 38 after 15 steps, 9 after 60,
 /// 6 after 120, 5 with no limit (its sphere grasps of seeds 3 and 4 push from every side after
 /// 107 and 116 steps), its torus search taking 10 ms before the ranking, 45 ms after 60 steps,
 /// 81 ms after 120 and 285 ms with no limit (medians); the human hand returns none after 30.
@@ -553,9 +554,11 @@ impl<'a> GraspPlanner<'a> {
     }
 
     /// Judges the stability of at most `most` more of the step's candidates that need it, best
-    /// quality first (ties in candidate order, as the move compares them), until one holds: no
-    /// candidate of lower quality can then become the current or the best pose. It stops sooner
-    /// at a quality that can beat neither the valid current pose nor the best. Returns whether
+    /// quality first (ties in candidate order, as the move compares them), until one holds and
+    /// pushes from every side: no candidate of lower quality can then become the current or the
+    /// best pose. It stops sooner at a quality that can beat neither the valid current pose nor
+    /// the best, when those push from every side (a one-sided pose any candidate that turns out
+    /// to push from every side beats, whatever its quality). Returns whether
     /// the step's outcome is decided; called again, it goes on where it stopped.
     fn judge_deferred_stability(&mut self, mut most: usize) -> bool {
         let n = self.step_size;
