@@ -122,7 +122,7 @@ impl GraspMovement {
     ) -> Result<Self, HandError> {
         if !(fraction > 0.0 && fraction < 1.0) {
             return Err(HandError::Invalid(format!(
-                "movement '{}': via_fraction = {fraction} is not strictly between 0 and 1",
+                "movement '{}': via_fraction = {fraction:?} is not strictly between 0 and 1",
                 self.name
             )));
         }
@@ -178,7 +178,7 @@ impl GraspMovement {
                     let rad = v.to_radians();
                     if !rad.is_finite() || rad < lo - 1e-9 || rad > hi + 1e-9 {
                         return Err(HandError::Invalid(format!(
-                            "movement '{}' ({which} pose): bone '{bone_name}' angle {k} = {v}° is outside its limits [{:.1}°, {:.1}°]",
+                            "movement '{}' ({which} pose): bone '{bone_name}' angle {k} = {v:?}° is outside its limits [{:.1}°, {:.1}°]",
                             d.name,
                             lo.to_degrees(),
                             hi.to_degrees()
