@@ -1,6 +1,6 @@
 //! The grasp wrench space's hull (force closure, ε, load ratios) on the 89 contact sets of the
 //! scipy oracle (`tests/data/stability_oracle.json`, 2–17 contacts each), computed once per
-//! search result.
+//! search result, and ε alone (how `auto` compares its movements' grasps).
 //!
 //! Run: `cargo bench -p prehensile-bench --bench stability`
 
@@ -21,6 +21,13 @@ fn bench(c: &mut Criterion) {
         b.iter(|| {
             for case in &cases {
                 black_box(gws.evaluate(&case.contacts, &case.model, &case.center, case.scale));
+            }
+        })
+    });
+    c.bench_function("wrench_space/89_oracle_cases_epsilon_alone", |b| {
+        b.iter(|| {
+            for case in &cases {
+                black_box(gws.epsilon(&case.contacts, &case.model, &case.center, case.scale));
             }
         })
     });

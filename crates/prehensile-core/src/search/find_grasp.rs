@@ -119,22 +119,7 @@ pub fn find_grasp(
     } else {
         search_in_turn(hand, object, request, &movements, sink)?
     };
-    // As within one search, a valid grasp that pushes from every side beats a one-sided wrap
-    // whatever their ε (`EvaluationContext::rank`); then `better_grasp` decides.
-    let mut best: Option<(bool, GraspResult)> = None;
-    for (every_side, result) in contenders(hand, &planners, request.params.threads) {
-        let beats = |(best_every_side, b): &(bool, GraspResult)| {
-            (result.valid, every_side) > (b.valid, *best_every_side)
-                || ((result.valid, every_side) == (b.valid, *best_every_side)
-                    && better_grasp(&result, b))
-        };
-        if best.as_ref().is_none_or(beats) {
-            best = Some((every_side, result));
-        }
-    }
-    Ok(best
-        .expect("movements_to_try returns at least one movement")
-        .1)
+    Ok(best_result(hand, &planners, request.params.threads))
 }
 
 /// The planner of one movement of the request.
@@ -228,36 +213,49 @@ fn search_in_turn<'a>(
     Ok(planners)
 }
 
-/// The results that can win among the searches of one request, in the movements' order: those
-/// of the searches that found a valid grasp, or every result when none did. A result's contacts
-/// and 6-D wrench-space hull are the dearest part of it (a few milliseconds each on a scan), and
-/// an invalid result never beats a valid one ([`better_grasp`]), so they are not computed for a
-/// search that lost. With `threads` above 1 the results are computed side by side on rayon's
-/// pool; each is the same on any thread.
-///
-/// Each comes with whether its search's best grasp pushes from every side
-/// ([`crate::search::quality::EvaluationContext::pushes_from_every_side`]).
-fn contenders(
-    hand: &HandModel,
-    planners: &[GraspPlanner],
-    threads: usize,
-) -> Vec<(bool, GraspResult)> {
+/// The result of the search that wins among those of one request. Only the searches that found
+/// a valid grasp can win, or every one when none did. As within one search, a valid grasp that
+/// pushes from every side beats a one-sided wrap whatever their ε
+/// (`EvaluationContext::rank`); then [`better_grasp`]'s order decides, the first movement
+/// winning ties. A result's contacts and 6-D wrench-space hull are the dearest part of it (a
+/// few milliseconds each on a scan), so the contenders are compared on their ε alone, from the
+/// part of the hull that decides it ([`EvaluationContext::epsilon`]), and only the winner's
+/// whole result is built. With `threads` above 1 the contenders are judged side by side on
+/// rayon's pool; each judgement is the same on any thread.
+fn best_result(hand: &HandModel, planners: &[GraspPlanner], threads: usize) -> GraspResult {
     let any_valid = planners.iter().any(|p| p.best().is_some());
     let can_win: Vec<&GraspPlanner> = planners
         .iter()
         .filter(|p| !any_valid || p.best().is_some())
         .collect();
-    let contender = |p: &&GraspPlanner| {
-        let every_side = p
-            .best()
-            .is_some_and(|b| p.context().pushes_from_every_side(b));
-        (every_side, result(hand, p))
-    };
-    if threads > 1 && can_win.len() > 1 {
-        can_win.par_iter().map(contender).collect()
-    } else {
-        can_win.iter().map(contender).collect()
+    if let [only] = can_win[..] {
+        return result(hand, only);
     }
+    // (valid, pushes from every side, ε, −gDist): `better_grasp`'s order after the ranking.
+    let judge = |p: &&GraspPlanner| {
+        let chosen = p.best().unwrap_or(p.current());
+        let ctx = p.context();
+        let mut ws = Workspace::new(hand);
+        ctx.evaluate_pose(&chosen.rotation, &mut ws);
+        (
+            p.best().is_some(),
+            p.best().is_some_and(|b| ctx.pushes_from_every_side(b)),
+            ctx.epsilon(&mut ws),
+            -chosen.terms.gdist,
+        )
+    };
+    let keys: Vec<_> = if threads > 1 {
+        can_win.par_iter().map(judge).collect()
+    } else {
+        can_win.iter().map(judge).collect()
+    };
+    let mut winner = 0;
+    for (k, key) in keys.iter().enumerate() {
+        if *key > keys[winner] {
+            winner = k;
+        }
+    }
+    result(hand, can_win[winner])
 }
 
 /// The progress of the searches running side by side, shared by their threads.

@@ -536,6 +536,19 @@ impl EvaluationContext<'_> {
         )
     }
 
+    /// Finds the contacts of the pose in `ws` and their Ferrari–Canny ε alone
+    /// ([`GraspWrenchSpace::epsilon`](crate::stability::GraspWrenchSpace::epsilon)): what
+    /// [`EvaluationContext::stability`] gives as `epsilon`, for less.
+    pub fn epsilon(&self, ws: &mut Workspace) -> f64 {
+        self.find_contacts(ws);
+        ws.wrench_space.epsilon(
+            &ws.contacts,
+            &self.contact_model,
+            &self.object.center_of_mass(),
+            self.torque_scale,
+        )
+    }
+
     /// Force closure, pushes from more than one side, and for a movement with contact fingers
     /// the opposition of the first two.
     fn holds(&self, closure_margin: f64, cap: f64, ws: &Workspace) -> Result<(), Invalid> {

@@ -69,6 +69,15 @@ pub enum HullError {
 /// No facet: an `assigned` entry of a point inside the hull or already added.
 const NONE: u32 = u32::MAX;
 
+/// How much of the hull a build makes.
+#[derive(Debug, Clone, Copy)]
+enum Extent {
+    /// Every facet.
+    Whole,
+    /// Enough to decide the facet nearest the origin ([`ConvexHull::compute_around_origin`]).
+    AroundOrigin,
+}
+
 /// Attempts with a joggle ten times larger each (1e-10 to 1e-7 of the input's size).
 const JOGGLE_ATTEMPTS: usize = 4;
 
@@ -141,6 +150,27 @@ impl<const D: usize> ConvexHull<D> {
 
     /// Builds the hull of `points`, replacing the previous one.
     pub fn compute(&mut self, points: &[[f64; D]]) -> Result<(), HullError> {
+        self.compute_with(points, Extent::Whole)
+    }
+
+    /// Builds only as much of the hull of `points` as decides its facet nearest the origin:
+    /// [`ConvexHull::facets`] are then those of the hull of a subset of the points whose facet
+    /// nearest the origin is a facet of the whole hull — the same Ferrari–Canny ε. When the
+    /// origin lies outside the points' hull it lies outside this one too (some facet has a
+    /// negative offset), though the offsets then differ from the whole hull's. Points are added
+    /// farthest beyond the nearest facet first, until none lies beyond it: a power grasp's ~130
+    /// wrenches need a fifth to a third of them and make a fifth of the facets
+    /// (docs/PERFORMANCE.md, session 28).
+    ///
+    /// Why it is exact: the hull of the subset lies inside the whole hull, so the whole hull's ε
+    /// is at least the subset's; and with no point beyond the subset's nearest facet, the whole
+    /// hull lies behind that facet's plane, so its ε is at most the same distance.
+    pub fn compute_around_origin(&mut self, points: &[[f64; D]]) -> Result<(), HullError> {
+        self.compute_with(points, Extent::AroundOrigin)
+    }
+
+    /// [`ConvexHull::compute`] of the whole hull or of the part `extent` names.
+    fn compute_with(&mut self, points: &[[f64; D]], extent: Extent) -> Result<(), HullError> {
         self.facets.clear();
         if points.len() < D + 1 {
             return Err(HullError::TooFewPoints {
@@ -174,7 +204,7 @@ impl<const D: usize> ConvexHull<D> {
                     .iter()
                     .map(|p| std::array::from_fn(|k| p[k] + rng.uniform(-joggle, joggle))),
             );
-            let built = self.build(&joggled, scale);
+            let built = self.build(&joggled, scale, extent);
             let tolerance = 1e-9 * scale + 4.0 * joggle;
             let sound = built.is_ok() && self.is_sound(&joggled, tolerance);
             self.joggled = joggled;
@@ -206,11 +236,20 @@ impl<const D: usize> ConvexHull<D> {
         }
         // The points' coordinates axis by axis, so that the heights of consecutive points over a
         // facet are computed side by side in vector registers (the same sums in the same order
-        // as `dot`): this check took 7% of a whole grasp point by point.
-        let n = points.len();
+        // as `dot`): this check took 7% of a whole grasp point by point. Points still assigned
+        // to a facet were left out of a partial hull (`Extent::AroundOrigin`) and lie beyond it.
+        let assigned = &self.assigned;
+        let within = || {
+            points
+                .iter()
+                .zip(assigned)
+                .filter(|(_, &a)| a == NONE)
+                .map(|(p, _)| p)
+        };
+        let n = within().count();
         self.by_axis.clear();
         for k in 0..D {
-            self.by_axis.extend(points.iter().map(|p| p[k]));
+            self.by_axis.extend(within().map(|p| p[k]));
         }
         let axes: [&[f64]; D] = std::array::from_fn(|k| &self.by_axis[k * n..(k + 1) * n]);
         // Point i of axis k: indices both ways are the point of the layout.
@@ -229,8 +268,9 @@ impl<const D: usize> ConvexHull<D> {
         })
     }
 
-    /// Beneath–beyond over `points` (already joggled into general position).
-    fn build(&mut self, points: &[[f64; D]], scale: f64) -> Result<(), HullError> {
+    /// Beneath–beyond over `points` (already joggled into general position), all of them or
+    /// those `extent` needs.
+    fn build(&mut self, points: &[[f64; D]], scale: f64, extent: Extent) -> Result<(), HullError> {
         self.facets.clear();
         let span_tolerance = 1e-9 * scale;
         let see_tolerance = 1e-13 * scale;
@@ -299,109 +339,26 @@ impl<const D: usize> ConvexHull<D> {
         self.dead.clear();
         self.dead.resize(self.facets.len(), false);
         let mut dead = 0;
-        for oi in 0..self.order.len() {
-            let i = self.order[oi];
-            let start = self.assigned[i as usize];
-            if start == NONE {
-                continue;
-            }
-            self.assigned[i as usize] = NONE;
-            let p = &points[i as usize];
-            self.visible.clear();
-            self.visible.push(start as usize);
-            self.seen[start as usize] = true;
-            let mut next = 0;
-            while let Some(&k) = self.visible.get(next) {
-                next += 1;
-                for &across in &self.neighbors[k] {
-                    let n = across as usize;
-                    if self.seen[n] || self.unseen[n] {
+        let mut next = 0;
+        loop {
+            let (i, start) = match extent {
+                Extent::Whole => {
+                    let Some(&i) = self.order.get(next) else {
+                        break;
+                    };
+                    next += 1;
+                    let start = self.assigned[i as usize];
+                    if start == NONE {
                         continue;
                     }
-                    if sees(&self.facets[n], p) {
-                        self.seen[n] = true;
-                        self.visible.push(n);
-                    } else {
-                        self.unseen[n] = true;
-                        self.probed.push(n);
-                    }
+                    (i, start)
                 }
-            }
-            for &n in &self.probed {
-                self.unseen[n] = false;
-            }
-            self.probed.clear();
-            // The horizon: ridges between a seen facet and an unseen one.
-            self.horizon.clear();
-            for &k in &self.visible {
-                for (j, &across) in self.neighbors[k].iter().enumerate() {
-                    if !self.seen[across as usize] {
-                        self.horizon.push((k as u32, j));
-                    }
-                }
-            }
-            // A new facet joins each horizon ridge to the point; its plane is the one of the
-            // pencil through that ridge (a combination of the seen and the unseen facet's
-            // planes) that passes through the point.
-            self.fresh.clear();
-            let first_new = self.facets.len();
-            for h in 0..self.horizon.len() {
-                let (k, j) = self.horizon[h];
-                let old = self.facets[k as usize];
-                let across = self.neighbors[k as usize][j];
-                let mut vertices = old.vertices;
-                vertices[j] = i;
-                vertices.sort_unstable();
-                let new = self.facets.len() as u32;
-                let facet = pencil_facet(
-                    points,
-                    vertices,
-                    &old,
-                    &self.facets[across as usize],
-                    p,
-                    &interior,
-                    1e-11 * scale,
-                )
-                .unwrap_or_else(|| facet(points, vertices, &interior));
-                self.facets.push(facet);
-                self.seen.push(false);
-                self.unseen.push(false);
-                self.dead.push(false);
-                // Across the ridge without the point: the unseen facet, which now borders it.
-                let mut links = [u32::MAX; D];
-                let apex = vertices
-                    .iter()
-                    .position(|&v| v == i)
-                    .expect("the apex is a vertex");
-                links[apex] = across;
-                let back = self.neighbors[across as usize]
-                    .iter()
-                    .position(|&n| n == k)
-                    .ok_or(HullError::Numerical)?;
-                self.neighbors[across as usize][back] = new;
-                self.neighbors.push(links);
-                self.fresh.extend(
-                    (0..D)
-                        .filter(|&slot| slot != apex)
-                        .map(|slot| (ridge_key(&vertices, slot), new, slot)),
-                );
-            }
-            link_pairs(&self.fresh, &mut self.table, &mut self.neighbors)?;
-            // A point that saw a removed facet sees one of the new ones, or is now inside.
-            for &j in &self.order[oi + 1..] {
-                let a = self.assigned[j as usize];
-                if a != NONE && self.seen[a as usize] {
-                    let q = &points[j as usize];
-                    self.assigned[j as usize] = (first_new..self.facets.len())
-                        .find(|&k| sees(&self.facets[k], q))
-                        .map_or(NONE, |k| k as u32);
-                }
-            }
-            for &k in &self.visible {
-                self.seen[k] = false;
-                self.dead[k] = true;
-            }
-            dead += self.visible.len();
+                Extent::AroundOrigin => match self.beyond_nearest_facet(points, see_tolerance) {
+                    Some(pick) => pick,
+                    None => break,
+                },
+            };
+            dead += self.add_point(points, i, start, &interior, scale, see_tolerance)?;
             if 2 * dead > self.facets.len() {
                 self.drop_dead();
                 dead = 0;
@@ -409,6 +366,142 @@ impl<const D: usize> ConvexHull<D> {
         }
         self.drop_dead();
         Ok(())
+    }
+
+    /// Adds point `i`, which sees facet `start`: the facets it sees are marked dead, the horizon
+    /// joined to it, and the points that saw a dead facet assigned anew. Returns how many
+    /// facets died.
+    fn add_point(
+        &mut self,
+        points: &[[f64; D]],
+        i: u32,
+        start: u32,
+        interior: &[f64; D],
+        scale: f64,
+        see_tolerance: f64,
+    ) -> Result<usize, HullError> {
+        let sees = |f: &HullFacet<D>, p: &[f64; D]| dot(&f.normal, p) - f.offset > see_tolerance;
+        self.assigned[i as usize] = NONE;
+        let p = &points[i as usize];
+        self.visible.clear();
+        self.visible.push(start as usize);
+        self.seen[start as usize] = true;
+        let mut next = 0;
+        while let Some(&k) = self.visible.get(next) {
+            next += 1;
+            for &across in &self.neighbors[k] {
+                let n = across as usize;
+                if self.seen[n] || self.unseen[n] {
+                    continue;
+                }
+                if sees(&self.facets[n], p) {
+                    self.seen[n] = true;
+                    self.visible.push(n);
+                } else {
+                    self.unseen[n] = true;
+                    self.probed.push(n);
+                }
+            }
+        }
+        for &n in &self.probed {
+            self.unseen[n] = false;
+        }
+        self.probed.clear();
+        // The horizon: ridges between a seen facet and an unseen one.
+        self.horizon.clear();
+        for &k in &self.visible {
+            for (j, &across) in self.neighbors[k].iter().enumerate() {
+                if !self.seen[across as usize] {
+                    self.horizon.push((k as u32, j));
+                }
+            }
+        }
+        // A new facet joins each horizon ridge to the point; its plane is the one of the
+        // pencil through that ridge (a combination of the seen and the unseen facet's
+        // planes) that passes through the point.
+        self.fresh.clear();
+        let first_new = self.facets.len();
+        for h in 0..self.horizon.len() {
+            let (k, j) = self.horizon[h];
+            let old = self.facets[k as usize];
+            let across = self.neighbors[k as usize][j];
+            let mut vertices = old.vertices;
+            vertices[j] = i;
+            vertices.sort_unstable();
+            let new = self.facets.len() as u32;
+            let facet = pencil_facet(
+                points,
+                vertices,
+                &old,
+                &self.facets[across as usize],
+                p,
+                interior,
+                1e-11 * scale,
+            )
+            .unwrap_or_else(|| facet(points, vertices, interior));
+            self.facets.push(facet);
+            self.seen.push(false);
+            self.unseen.push(false);
+            self.dead.push(false);
+            // Across the ridge without the point: the unseen facet, which now borders it.
+            let mut links = [u32::MAX; D];
+            let apex = vertices
+                .iter()
+                .position(|&v| v == i)
+                .expect("the apex is a vertex");
+            links[apex] = across;
+            let back = self.neighbors[across as usize]
+                .iter()
+                .position(|&n| n == k)
+                .ok_or(HullError::Numerical)?;
+            self.neighbors[across as usize][back] = new;
+            self.neighbors.push(links);
+            self.fresh.extend(
+                (0..D)
+                    .filter(|&slot| slot != apex)
+                    .map(|slot| (ridge_key(&vertices, slot), new, slot)),
+            );
+        }
+        link_pairs(&self.fresh, &mut self.table, &mut self.neighbors)?;
+        // A point that saw a removed facet sees one of the new ones, or is now inside.
+        for (assigned, q) in self.assigned.iter_mut().zip(points) {
+            if *assigned != NONE && self.seen[*assigned as usize] {
+                *assigned = (first_new..self.facets.len())
+                    .find(|&k| sees(&self.facets[k], q))
+                    .map_or(NONE, |k| k as u32);
+            }
+        }
+        for &k in &self.visible {
+            self.seen[k] = false;
+            self.dead[k] = true;
+        }
+        Ok(self.visible.len())
+    }
+
+    /// The next point a partial hull around the origin needs (`Extent::AroundOrigin`): the
+    /// point farthest beyond the live facet nearest the origin (ties: the lower index), with that
+    /// facet; `None` when no point lies beyond it.
+    fn beyond_nearest_facet(&self, points: &[[f64; D]], see_tolerance: f64) -> Option<(u32, u32)> {
+        let nearest = (0..self.facets.len())
+            .filter(|&k| !self.dead[k])
+            .min_by(|&a, &b| {
+                self.facets[a]
+                    .offset
+                    .total_cmp(&self.facets[b].offset)
+                    .then(a.cmp(&b))
+            })?;
+        let f = &self.facets[nearest];
+        let mut pick: Option<(f64, u32)> = None;
+        for (j, p) in points.iter().enumerate() {
+            if self.assigned[j] == NONE {
+                continue;
+            }
+            let height = dot(&f.normal, p) - f.offset;
+            if height > see_tolerance && pick.is_none_or(|(h, _)| height > h) {
+                pick = Some((height, j as u32));
+            }
+        }
+        pick.map(|(_, j)| (j, nearest as u32))
     }
 
     /// Removes the dead facets, renumbering the others and their neighbours.
@@ -897,5 +990,65 @@ mod tests {
             assert!(expected.len() > 20, "{} facets", expected.len());
             assert_eq!(found, expected);
         }
+    }
+
+    /// The offset of the facet nearest the origin.
+    fn nearest(hull: &ConvexHull<6>) -> f64 {
+        hull.facets()
+            .iter()
+            .map(|f| f.offset)
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(200))]
+
+        /// The partial hull around the origin holds the origin exactly when the whole hull does,
+        /// and then has its nearest facet, with fewer facets.
+        #[test]
+        fn the_hull_around_the_origin_decides_what_the_whole_hull_does(
+            seed in 0u64..1_000_000,
+            count in 8usize..120,
+            shift in proptest::sample::select(vec![0.0, 0.3, 0.9, 2.0]),
+            stretch in proptest::sample::select(vec![1.0, 0.1, 10.0]),
+        ) {
+            let mut rng = crate::search::random::SplitMix64::new(seed);
+            let points: Vec<[f64; 6]> = (0..count)
+                .map(|_| {
+                    std::array::from_fn(|k| {
+                        let scale = if k >= 3 { stretch } else { 1.0 };
+                        (rng.uniform(-1.0, 1.0) + if k == 0 { shift } else { 0.0 }) * scale
+                    })
+                })
+                .collect();
+            let mut whole = ConvexHull::<6>::new();
+            let mut partial = ConvexHull::<6>::new();
+            whole.compute(&points).unwrap();
+            partial.compute_around_origin(&points).unwrap();
+            let (all, near) = (nearest(&whole), nearest(&partial));
+            // Outside the hull the origin is beyond some facet of both; inside, ε is the same.
+            proptest::prop_assert_eq!(near > 0.0, all > 0.0, "{} against {}", near, all);
+            if all > 0.0 {
+                proptest::prop_assert!((all - near).abs() < 1e-9, "{} against {}", near, all);
+            }
+            proptest::prop_assert!(partial.facets().len() <= whole.facets().len());
+        }
+    }
+
+    #[test]
+    fn the_hull_around_the_origin_of_many_points_makes_few_facets() {
+        let mut rng = crate::search::random::SplitMix64::new(5);
+        let points: Vec<[f64; 6]> = (0..130)
+            .map(|_| std::array::from_fn(|_| rng.uniform(-1.0, 1.0)))
+            .collect();
+        let (mut whole, mut partial) = (ConvexHull::<6>::new(), ConvexHull::<6>::new());
+        whole.compute(&points).unwrap();
+        partial.compute_around_origin(&points).unwrap();
+        assert!(
+            2 * partial.facets().len() < whole.facets().len(),
+            "{} facets around the origin, {} in all",
+            partial.facets().len(),
+            whole.facets().len()
+        );
     }
 }

@@ -55,7 +55,41 @@ impl ForceClosure {
         if eigen.min() <= 1e-12 * eigen.max().max(f64::MIN_POSITIVE) {
             return 0.0;
         }
-        // Columns: μ_0..μ_{n-1}, t, then one artificial per row; last entry of a row: its
+        // λ_i = μ_i + t: the column of t is (Σ w_i, n).
+        let mut column = [0.0; ROWS];
+        for w in wrenches {
+            for (c, x) in column.iter_mut().zip(w) {
+                *c += x;
+            }
+        }
+        column[6] = n as f64;
+        let margin = self.maximize(wrenches, &column).unwrap_or(0.0) * n as f64;
+        if margin > MARGIN_TOLERANCE {
+            margin.min(1.0)
+        } else {
+            0.0
+        }
+    }
+
+    /// How far the wrenches' hull reaches from the origin along `direction`: the largest `s`
+    /// with `s · direction` a convex combination of `wrenches`. For a grasp in force closure,
+    /// pushing `direction` with a total contact force of one, the grasp's load ratio along it
+    /// (what the hull's facet on that ray gives, for a linear program's cost). `None` when the
+    /// origin is outside the hull.
+    pub fn reach(&mut self, wrenches: &[[f64; 6]], direction: &[f64; 6]) -> Option<f64> {
+        let mut column = [0.0; ROWS];
+        for (c, d) in column.iter_mut().zip(direction) {
+            *c = -d;
+        }
+        self.maximize(wrenches, &column)
+    }
+
+    /// `max t` subject to `Σ x_i (w_i, 1) + t · column = (0, …, 0, 1)`, `x ≥ 0`, `t ≥ 0`: the
+    /// problem both [`ForceClosure::margin`] and [`ForceClosure::reach`] are. `None` when it is
+    /// infeasible, unbounded, or rounding defeats the simplex.
+    fn maximize(&mut self, wrenches: &[[f64; 6]], column: &[f64; ROWS]) -> Option<f64> {
+        let n = wrenches.len();
+        // Columns: x_0..x_{n-1}, t, then one artificial per row; last entry of a row: its
         // right-hand side.
         let columns = n + 1 + ROWS;
         let width = columns + 1;
@@ -69,12 +103,11 @@ impl ForceClosure {
                 for (i, w) in wrenches.iter().enumerate() {
                     row[i] = w[r];
                 }
-                row[t] = wrenches.iter().map(|w| w[r]).sum();
             } else {
                 row[..n].fill(1.0);
-                row[t] = n as f64;
                 row[columns] = 1.0;
             }
+            row[t] = column[r];
             // Right-hand sides are 0 or 1: no row needs flipping to keep them non-negative.
             row[n + 1 + r] = 1.0;
             self.basis.push(n + 1 + r);
@@ -92,10 +125,10 @@ impl ForceClosure {
             objective[columns] -= body[r * width + columns];
         }
         if !self.solve(width, n + 1 + ROWS) {
-            return 0.0;
+            return None;
         }
         if -self.tableau[ROWS * width + columns] > 1e-9 {
-            return 0.0; // infeasible: the origin is outside the wrenches' hull
+            return None; // infeasible: the origin is outside the wrenches' hull
         }
         // Artificials still basic (at zero) leave the basis, or their row is redundant.
         for r in 0..ROWS {
@@ -121,19 +154,14 @@ impl ForceClosure {
             }
         }
         if !self.solve(width, n + 1) {
-            return 0.0;
+            return None;
         }
-        let value = self
-            .basis
-            .iter()
-            .position(|&b| b == t)
-            .map_or(0.0, |r| self.tableau[r * width + columns]);
-        let margin = value * n as f64;
-        if margin > MARGIN_TOLERANCE {
-            margin.min(1.0)
-        } else {
-            0.0
-        }
+        Some(
+            self.basis
+                .iter()
+                .position(|&b| b == t)
+                .map_or(0.0, |r| self.tableau[r * width + columns]),
+        )
     }
 
     /// Simplex pivots on the tableau (maximization; the objective row holds reduced costs, a

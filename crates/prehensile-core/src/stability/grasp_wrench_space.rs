@@ -24,6 +24,17 @@ use super::force_closure::ForceClosure;
 /// The six load directions of [`Stability::load_ratio`], in the object's frame.
 pub const LOAD_DIRECTIONS: [&str; 6] = ["+x", "-x", "+y", "-y", "+z", "-z"];
 
+/// The force the hand applies to hold a load along each of [`LOAD_DIRECTIONS`]: its opposite.
+/// A load ratio is how far the grasp wrench space reaches along it.
+const HOLDING_FORCES: [[f64; 6]; 6] = [
+    [-1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [0.0, -1.0, 0.0, 0.0, 0.0, 0.0],
+    [0.0, 1.0, 0.0, 0.0, 0.0, 0.0],
+    [0.0, 0.0, -1.0, 0.0, 0.0, 0.0],
+    [0.0, 0.0, 1.0, 0.0, 0.0, 0.0],
+];
+
 /// The smallest ε counted as force closure (the hull's tolerance is about 1e-9 of its size).
 pub const FORCE_CLOSURE_EPSILON: f64 = 1e-7;
 
@@ -124,7 +135,38 @@ impl GraspWrenchSpace {
         self.closure.margin(&self.wrenches)
     }
 
-    /// Stability of `contacts` on an object with centre of mass `center` and size `scale` (L).
+    /// The Ferrari–Canny ε that [`GraspWrenchSpace::evaluate`] gives (0 without force closure)
+    /// alone: for choosing among grasps before the winner's whole stability is computed.
+    pub fn epsilon(
+        &mut self,
+        contacts: &[Contact],
+        model: &ContactModel,
+        center: &Point3,
+        scale: f64,
+    ) -> f64 {
+        contact_wrenches(contacts, model, center, scale, &mut self.wrenches);
+        self.epsilon_of_wrenches().unwrap_or(0.0)
+    }
+
+    /// ε of the wrenches in `self.wrenches` from the part of their hull around the origin
+    /// ([`ConvexHull::compute_around_origin`]); `None` without force closure (flat or too few
+    /// wrenches, the origin outside or too near the boundary, or a hull rounding defeats —
+    /// never met on the oracle's or the surveys' wrench sets).
+    fn epsilon_of_wrenches(&mut self) -> Option<f64> {
+        self.hull.compute_around_origin(&self.wrenches).ok()?;
+        let epsilon = self
+            .hull
+            .facets()
+            .iter()
+            .map(|f| f.offset)
+            .fold(f64::INFINITY, f64::min);
+        (epsilon >= FORCE_CLOSURE_EPSILON).then_some(epsilon)
+    }
+
+    /// Stability of `contacts` on an object with centre of mass `center` and size `scale` (L):
+    /// ε from the hull around the origin, each load ratio from a linear program (how far the
+    /// wrenches' hull reaches along the holding force; the same number as the whole hull's facet
+    /// on that ray, for a fraction of the cost).
     pub fn evaluate(
         &mut self,
         contacts: &[Contact],
@@ -138,32 +180,20 @@ impl GraspWrenchSpace {
             wrenches: self.wrenches.len(),
             ..Default::default()
         };
-        // Flat or too few wrenches: no force closure. A hull that rounding defeats is reported
-        // as none too (never met on the oracle's or the surveys' wrench sets).
-        if self.hull.compute(&self.wrenches).is_err() {
+        let Some(epsilon) = self.epsilon_of_wrenches() else {
             return stability;
-        }
-        let facets = self.hull.facets();
-        let epsilon = facets
-            .iter()
-            .map(|f| f.offset)
-            .fold(f64::INFINITY, f64::min);
-        if epsilon < FORCE_CLOSURE_EPSILON {
-            return stability;
-        }
+        };
         stability.force_closure = true;
         stability.epsilon = epsilon;
-        for (k, ratio) in stability.load_ratio.iter_mut().enumerate() {
-            // To hold a load along d the hand applies −d: how far does the hull reach that way?
-            let mut w = [0.0; 6];
-            w[k / 2] = if k % 2 == 0 { -1.0 } else { 1.0 };
-            *ratio = facets
-                .iter()
-                .filter_map(|f| {
-                    let along = f.normal[k / 2] * w[k / 2];
-                    (along > 1e-12).then(|| f.offset / along)
-                })
-                .fold(f64::INFINITY, f64::min);
+        for (ratio, force) in stability.load_ratio.iter_mut().zip(&HOLDING_FORCES) {
+            // In force closure the origin is inside and the hull bounded: the program has an
+            // optimum, at least ε; rounding that defeats it leaves ε, the reach every way.
+            *ratio = self
+                .closure
+                .reach(&self.wrenches, force)
+                .filter(|r| r.is_finite())
+                .unwrap_or(epsilon)
+                .max(epsilon);
         }
         stability
     }

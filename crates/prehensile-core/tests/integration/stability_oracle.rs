@@ -26,6 +26,13 @@ fn stability_matches_scipy_qhull() {
             "{name}: epsilon {} against {epsilon}",
             s.epsilon
         );
+        // ε alone, from the part of the hull that decides it, is the same number.
+        let alone = GraspWrenchSpace::new().epsilon(&c.contacts, &c.model, &c.center, c.scale);
+        assert!(
+            (alone - s.epsilon).abs() < 1e-9,
+            "{name}: epsilon alone {alone} against {}",
+            s.epsilon
+        );
         for (k, load) in case["load_ratio"].as_array().unwrap().iter().enumerate() {
             let load = load.as_f64().unwrap();
             assert!(
