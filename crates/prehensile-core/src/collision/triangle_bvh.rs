@@ -8,8 +8,8 @@
 //! and the traversal uses a fixed stack: queries take `&self` and never allocate.
 
 use crate::geometry::{
-    closest_point_on_triangle, distance_squared_segment_triangle, segment_within_triangle,
-    TriangleFeature,
+    closest_point_on_triangle, closest_segment_triangle, distance_squared_segment_triangle,
+    segment_within_triangle, TriangleFeature,
 };
 use crate::math::{Point3, Vec3};
 use crate::mesh::TriangleMesh;
@@ -388,6 +388,63 @@ impl TriangleBvh {
             }
         }
         (best_t != usize::MAX).then_some(best_t)
+    }
+
+    /// The point of segment `a–b` nearest the surface, as a fraction along the segment, with
+    /// the surface point nearest it (pseudo-normal, signed distance), if the surface comes within
+    /// `max` of the segment. Exact: the minimum over the triangles of their distance to the
+    /// segment, whose nearest triangle is also the nearest to that point. Where the segment
+    /// crosses the surface, a crossing point (signed distance 0).
+    pub fn closest_point_to_segment_within(
+        &self,
+        a: &Point3,
+        b: &Point3,
+        max: f64,
+    ) -> Option<(f64, SurfacePoint)> {
+        let (mut best, mut best_squared) = (max, max * max);
+        let mut found: Option<(usize, f64)> = None;
+        let middle = nalgebra::center(a, b);
+        let mut stack = [0u32; STACK];
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let node = self.nodes[stack[top] as usize];
+            if !segment_meets_box(a, b, &node.min, &node.max, best) {
+                continue;
+            }
+            if node.count > 0 {
+                for t in node.first as usize..(node.first + node.count) as usize {
+                    let (centre, reach) = self.spheres[t];
+                    if distance_squared_point_segment(&centre, a, b) > (best + reach).powi(2) {
+                        continue;
+                    }
+                    // A triangle is no nearer than its plane.
+                    let corners = &self.corners[t];
+                    let normal = &self.plane_normals[t];
+                    let (ha, hb) = (normal.dot(&(a - corners[0])), normal.dot(&(b - corners[0])));
+                    if (ha > best && hb > best) || (ha < -best && hb < -best) {
+                        continue;
+                    }
+                    let (d, s) =
+                        closest_segment_triangle(a, b, &corners[0], &corners[1], &corners[2]);
+                    if d <= best_squared {
+                        best_squared = d;
+                        best = d.sqrt();
+                        found = Some((t, s));
+                    }
+                }
+            } else {
+                // The child nearer the segment's middle is visited first: pushed last.
+                let (l, r) = (node.first, node.first + 1);
+                let near_left = box_distance_squared(&self.nodes[l as usize], &middle)
+                    <= box_distance_squared(&self.nodes[r as usize], &middle);
+                let (near, far) = if near_left { (l, r) } else { (r, l) };
+                stack[top] = far;
+                stack[top + 1] = near;
+                top += 2;
+            }
+        }
+        found.map(|(t, s)| (s, self.surface_point_on_triangle(&(a + (b - a) * s), t)))
     }
 
     /// Signed distance from `p` to triangle `t`, signed by the pseudo-normal of the feature

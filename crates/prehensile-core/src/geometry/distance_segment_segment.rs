@@ -4,6 +4,17 @@ use crate::math::{Point3, Vec3};
 
 /// Squared distance between segments `p1–q1` and `p2–q2`.
 pub fn distance_squared_segment_segment(p1: &Point3, q1: &Point3, p2: &Point3, q2: &Point3) -> f64 {
+    closest_segment_segment(p1, q1, p2, q2).0
+}
+
+/// Squared distance between segments `p1–q1` and `p2–q2`, with the fraction `s` along the first
+/// and `t` along the second where it is reached.
+pub fn closest_segment_segment(
+    p1: &Point3,
+    q1: &Point3,
+    p2: &Point3,
+    q2: &Point3,
+) -> (f64, f64, f64) {
     let d1: Vec3 = q1 - p1;
     let d2: Vec3 = q2 - p2;
     let r: Vec3 = p1 - p2;
@@ -13,7 +24,7 @@ pub fn distance_squared_segment_segment(p1: &Point3, q1: &Point3, p2: &Point3, q
     const EPS: f64 = 1e-30;
     let (s, t);
     if a <= EPS && e <= EPS {
-        return r.norm_squared();
+        return (r.norm_squared(), 0.0, 0.0);
     }
     if a <= EPS {
         s = 0.0;
@@ -45,7 +56,7 @@ pub fn distance_squared_segment_segment(p1: &Point3, q1: &Point3, p2: &Point3, q
     }
     let c1 = p1 + d1 * s;
     let c2 = p2 + d2 * t;
-    (c1 - c2).norm_squared()
+    ((c1 - c2).norm_squared(), s, t)
 }
 
 #[cfg(test)]

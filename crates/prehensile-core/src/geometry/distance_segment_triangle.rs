@@ -3,7 +3,7 @@
 //! If the segment pierces the triangle the distance is zero; otherwise the minimum is reached
 //! either at a segment endpoint against the triangle or between the segment and a triangle edge.
 
-use super::{closest_point_on_triangle, distance_squared_segment_segment};
+use super::{closest_point_on_triangle, closest_segment_segment};
 use crate::math::{Point3, Vec3};
 
 /// Squared distance between segment `p–q` and triangle `(a, b, c)`.
@@ -14,15 +14,41 @@ pub fn distance_squared_segment_triangle(
     b: &Point3,
     c: &Point3,
 ) -> f64 {
-    if segment_pierces_triangle(p, q, a, b, c) {
-        return 0.0;
+    closest_segment_triangle(p, q, a, b, c).0
+}
+
+/// Squared distance between segment `p–q` and triangle `(a, b, c)`, with the fraction `s` along
+/// the segment where it is reached (where the segment pierces the triangle, at distance 0).
+pub fn closest_segment_triangle(
+    p: &Point3,
+    q: &Point3,
+    a: &Point3,
+    b: &Point3,
+    c: &Point3,
+) -> (f64, f64) {
+    if let Some(s) = segment_pierces_triangle(p, q, a, b, c) {
+        return (0.0, s);
     }
     let dp = (closest_point_on_triangle(p, a, b, c).0 - p).norm_squared();
     let dq = (closest_point_on_triangle(q, a, b, c).0 - q).norm_squared();
-    let e0 = distance_squared_segment_segment(p, q, a, b);
-    let e1 = distance_squared_segment_segment(p, q, b, c);
-    let e2 = distance_squared_segment_segment(p, q, c, a);
-    dp.min(dq).min(e0).min(e1).min(e2)
+    [
+        (dp, 0.0),
+        (dq, 1.0),
+        edge(p, q, a, b),
+        edge(p, q, b, c),
+        edge(p, q, c, a),
+    ]
+    .into_iter()
+    .fold(
+        (f64::INFINITY, 0.0),
+        |best, x| if x.0 < best.0 { x } else { best },
+    )
+}
+
+/// Squared distance from segment `p–q` to the edge `u–v`, and the fraction along `p–q`.
+fn edge(p: &Point3, q: &Point3, u: &Point3, v: &Point3) -> (f64, f64) {
+    let (d, s, _) = closest_segment_segment(p, q, u, v);
+    (d, s)
 }
 
 /// True when segment `p–q` comes within `radius` of triangle `(a, b, c)` whose unit normal is
@@ -44,19 +70,26 @@ pub fn segment_within_triangle(
     distance_squared_segment_triangle(p, q, a, b, c) <= radius * radius
 }
 
-/// True when the segment crosses the triangle's plane inside the triangle (boundary included).
-fn segment_pierces_triangle(p: &Point3, q: &Point3, a: &Point3, b: &Point3, c: &Point3) -> bool {
+/// Where the segment crosses the triangle's plane inside the triangle (boundary included), as a
+/// fraction along it; `None` if it does not.
+fn segment_pierces_triangle(
+    p: &Point3,
+    q: &Point3,
+    a: &Point3,
+    b: &Point3,
+    c: &Point3,
+) -> Option<f64> {
     let n: Vec3 = (b - a).cross(&(c - a));
     let sp = n.dot(&(p - a));
     let sq = n.dot(&(q - a));
     if (sp > 0.0 && sq > 0.0) || (sp < 0.0 && sq < 0.0) || sp == sq {
         // Same side, or parallel to the plane (handled by the edge and endpoint distances).
-        return false;
+        return None;
     }
     let t = sp / (sp - sq);
     let x = p + (q - p) * t;
     let inside_edge = |u: &Point3, v: &Point3| n.dot(&(v - u).cross(&(x - u))) >= 0.0;
-    inside_edge(a, b) && inside_edge(b, c) && inside_edge(c, a)
+    (inside_edge(a, b) && inside_edge(b, c) && inside_edge(c, a)).then_some(t)
 }
 
 #[cfg(test)]
@@ -96,5 +129,31 @@ mod tests {
         let d =
             distance_squared_segment_triangle(&p(0.5, -1.0, 0.1), &p(0.5, 1.0, 0.1), &a, &b, &c);
         assert!(d <= 0.01 + 1e-12);
+    }
+
+    #[test]
+    fn the_fraction_returned_is_where_the_segment_is_that_near() {
+        let mut rng = crate::search::random::SplitMix64::new(3);
+        let mut point = || {
+            Point3::new(
+                rng.uniform(-1.0, 1.0),
+                rng.uniform(-1.0, 1.0),
+                rng.uniform(-1.0, 1.0),
+            )
+        };
+        for _ in 0..2000 {
+            let (p, q, a, b, c) = (point(), point(), point(), point(), point());
+            let (d, s) = closest_segment_triangle(&p, &q, &a, &b, &c);
+            assert!((0.0..=1.0).contains(&s));
+            let at = p + (q - p) * s;
+            let there = (closest_point_on_triangle(&at, &a, &b, &c).0 - at).norm_squared();
+            assert!((there - d).abs() < 1e-12, "{there} against {d}");
+            // No point of the segment is nearer (sampled).
+            for k in 0..=50 {
+                let x = p + (q - p) * (k as f64 / 50.0);
+                let e = (closest_point_on_triangle(&x, &a, &b, &c).0 - x).norm_squared();
+                assert!(e >= d - 1e-12);
+            }
+        }
     }
 }

@@ -11,5 +11,7 @@ mod distance_segment_segment;
 mod distance_segment_triangle;
 
 pub use closest_point_triangle::{closest_point_on_triangle, TriangleFeature};
-pub use distance_segment_segment::distance_squared_segment_segment;
-pub use distance_segment_triangle::{distance_squared_segment_triangle, segment_within_triangle};
+pub use distance_segment_segment::{closest_segment_segment, distance_squared_segment_segment};
+pub use distance_segment_triangle::{
+    closest_segment_triangle, distance_squared_segment_triangle, segment_within_triangle,
+};

@@ -2,9 +2,11 @@
 //! the points where it touches, with the surface normal, from exact distance queries.
 //!
 //! A capsule touches where the distance from its axis to the surface, less its radius, has a
-//! local minimum within the tolerance. The axis is sampled and each minimum refined by
-//! golden-section search, so a fingertip on a sphere gives one contact and a phalanx lying along a
-//! flat face gives a line of them (up to [`MAX_CONTACTS_PER_CAPSULE`], at least a radius apart).
+//! local minimum within the tolerance. The axis is sampled and each minimum found exactly as the
+//! point of the axis between the neighbouring samples nearest the mesh (one segment–mesh query),
+//! so a fingertip on a sphere gives one contact and a phalanx lying along a flat face gives a
+//! line of them (up to [`MAX_CONTACTS_PER_CAPSULE`], at least a radius apart). An axis that
+//! crosses into the object is refined by golden-section search for its deepest point.
 
 use crate::collision::Capsule;
 use crate::hand::HandModel;
@@ -79,11 +81,23 @@ pub fn find_contacts(
             let step = 1.0 / (AXIS_SAMPLES - 1) as f64;
             let lo = (k as f64 - 1.0).max(0.0) * step;
             let hi = (k as f64 + 1.0).min((AXIS_SAMPLES - 1) as f64) * step;
-            let s = golden_section_minimum(&gap, lo, hi);
-            let p = capsule.a + (capsule.b - capsule.a) * s;
-            let Some(q) = exact.closest_point_within(&p, reach + capsule.radius) else {
-                continue;
+            let along = |s: f64| capsule.a + (capsule.b - capsule.a) * s;
+            // The axis between the neighbouring samples comes nearest the surface where its
+            // exact distance to the mesh is least; an axis that crosses into the object (deep
+            // penetration) is searched for its deepest point instead.
+            let (s, q) = match exact.closest_point_to_segment_within(&along(lo), &along(hi), reach)
+            {
+                None => continue,
+                Some((s, q)) if q.signed_distance > 1e-9 => (lo + (hi - lo) * s, q),
+                Some(_) => {
+                    let s = golden_section_minimum(&gap, lo, hi);
+                    match exact.closest_point_within(&along(s), reach + capsule.radius) {
+                        Some(q) => (s, q),
+                        None => continue,
+                    }
+                }
             };
+            let p = along(s);
             let gap = q.signed_distance - capsule.radius;
             if gap > tolerance {
                 continue;

@@ -3,7 +3,7 @@
 
 use crate::common;
 
-use prehensile_core::geometry::closest_point_on_triangle;
+use prehensile_core::geometry::{closest_point_on_triangle, distance_squared_segment_triangle};
 use prehensile_core::math::Point3;
 use prehensile_core::{Capsule, CollisionCounters};
 use proptest::prelude::*;
@@ -70,6 +70,57 @@ proptest! {
                         "{} {:?}: BVH {} against {}", object, p, found.signed_distance, nearest);
                 }
                 None => prop_assert!(nearest > bound, "{} {:?}: missed {}", object, p, nearest),
+            }
+            Ok(())
+        })?;
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(2000))]
+
+    /// The BVH's segment query (what finds a capsule's contacts) finds the distance a loop over
+    /// every triangle with the segment–triangle kernel finds, at a point of the segment that is
+    /// that far from the surface, and nothing when that is beyond the bound.
+    #[test]
+    fn the_point_of_a_segment_nearest_the_surface_is_the_nearest_of_every_triangle(
+        object in prop::sample::select(vec!["mug", "torus", "box", "sphere"]),
+        centre in prop::array::uniform3(-0.1f64..0.1),
+        direction in prop::array::uniform3(-1.0f64..1.0),
+        length in 0.0f64..0.05,
+        bound in prop::sample::select(vec![0.005, 0.02, f64::INFINITY]),
+    ) {
+        thread_local! {
+            static OBJECTS: std::collections::HashMap<&'static str, prehensile_core::ObjectModel> =
+                ["mug", "torus", "box", "sphere"].into_iter().map(|n| (n, common::object(n))).collect();
+        }
+        let d = nalgebra::Vector3::from(direction);
+        let d = if d.norm() > 1e-9 { d.normalize() } else { nalgebra::Vector3::x() };
+        let c = Point3::from(centre) + nalgebra::Vector3::new(0.0, 0.0, 0.05);
+        let (a, b) = (c - d * length / 2.0, c + d * length / 2.0);
+        OBJECTS.with(|objects| {
+            let o = &objects[object];
+            let mesh = o.mesh();
+            let nearest = (0..mesh.triangles.len())
+                .map(|t| {
+                    let [p, q, r] = mesh.corners(t);
+                    distance_squared_segment_triangle(&a, &b, &p, &q, &r)
+                })
+                .fold(f64::INFINITY, f64::min)
+                .sqrt();
+            let exact = o.collider().exact();
+            match exact.closest_point_to_segment_within(&a, &b, bound) {
+                Some((s, found)) => {
+                    prop_assert!(nearest <= bound);
+                    prop_assert!((0.0..=1.0).contains(&s));
+                    prop_assert!((found.signed_distance.abs() - nearest).abs() < 1e-12,
+                        "{} {:?}–{:?}: BVH {} against {}", object, a, b, found.signed_distance, nearest);
+                    // The surface point is the one nearest that point of the segment.
+                    let at = a + (b - a) * s;
+                    let from_point = exact.closest_point_within(&at, f64::INFINITY).unwrap();
+                    prop_assert!((from_point.signed_distance - found.signed_distance).abs() < 1e-12);
+                }
+                None => prop_assert!(nearest > bound, "{} {:?}–{:?}: missed {}", object, a, b, nearest),
             }
             Ok(())
         })?;
