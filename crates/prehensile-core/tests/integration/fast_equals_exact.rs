@@ -8,6 +8,25 @@ use prehensile_core::math::Point3;
 use prehensile_core::{Capsule, CollisionCounters};
 use proptest::prelude::*;
 
+thread_local! {
+    /// The objects the tests query, built once per name and test thread.
+    static OBJECTS: std::collections::HashMap<&'static str, prehensile_core::ObjectModel> =
+        ["mug", "torus", "box", "sphere"].into_iter().map(|n| (n, common::object(n))).collect();
+}
+
+/// A segment of `length` through `centre` (lifted 5 cm, over the objects) along `direction`
+/// (x when it has none).
+fn segment(centre: [f64; 3], direction: [f64; 3], length: f64) -> (Point3, Point3) {
+    let d = nalgebra::Vector3::from(direction);
+    let d = if d.norm() > 1e-9 {
+        d.normalize()
+    } else {
+        nalgebra::Vector3::x()
+    };
+    let c = Point3::from(centre) + nalgebra::Vector3::new(0.0, 0.0, 0.05);
+    (c - d * length / 2.0, c + d * length / 2.0)
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(2000))]
 
@@ -19,15 +38,8 @@ proptest! {
         length in 0.0f64..0.06,
         radius in 0.0005f64..0.02,
     ) {
-        // Objects are built once per name and cached by the test harness's thread.
-        thread_local! {
-            static OBJECTS: std::collections::HashMap<&'static str, prehensile_core::ObjectModel> =
-                ["mug", "torus", "box", "sphere"].into_iter().map(|n| (n, common::object(n))).collect();
-        }
-        let d = nalgebra::Vector3::from(direction);
-        let d = if d.norm() > 1e-9 { d.normalize() } else { nalgebra::Vector3::x() };
-        let c = Point3::from(centre) + nalgebra::Vector3::new(0.0, 0.0, 0.05);
-        let capsule = Capsule { a: c - d * length / 2.0, b: c + d * length / 2.0, radius };
+        let (a, b) = segment(centre, direction, length);
+        let capsule = Capsule { a, b, radius };
         OBJECTS.with(|objects| {
             let o = &objects[object];
             let exact = o.collider().exact().capsule_touches(&capsule.a, &capsule.b, radius);
@@ -49,10 +61,6 @@ proptest! {
         point in prop::array::uniform3(-0.1f64..0.1),
         bound in prop::sample::select(vec![0.005, 0.02, f64::INFINITY]),
     ) {
-        thread_local! {
-            static OBJECTS: std::collections::HashMap<&'static str, prehensile_core::ObjectModel> =
-                ["mug", "torus", "box", "sphere"].into_iter().map(|n| (n, common::object(n))).collect();
-        }
         let p = Point3::from(point) + nalgebra::Vector3::new(0.0, 0.0, 0.05);
         OBJECTS.with(|objects| {
             let o = &objects[object];
@@ -90,14 +98,7 @@ proptest! {
         length in 0.0f64..0.05,
         bound in prop::sample::select(vec![0.005, 0.02, f64::INFINITY]),
     ) {
-        thread_local! {
-            static OBJECTS: std::collections::HashMap<&'static str, prehensile_core::ObjectModel> =
-                ["mug", "torus", "box", "sphere"].into_iter().map(|n| (n, common::object(n))).collect();
-        }
-        let d = nalgebra::Vector3::from(direction);
-        let d = if d.norm() > 1e-9 { d.normalize() } else { nalgebra::Vector3::x() };
-        let c = Point3::from(centre) + nalgebra::Vector3::new(0.0, 0.0, 0.05);
-        let (a, b) = (c - d * length / 2.0, c + d * length / 2.0);
+        let (a, b) = segment(centre, direction, length);
         OBJECTS.with(|objects| {
             let o = &objects[object];
             let mesh = o.mesh();
