@@ -228,6 +228,9 @@ pub struct GraspPlanner<'a> {
     results: Vec<Option<Evaluation>>,
     /// World capsules of each candidate whose stability waits to be judged.
     candidate_capsules: Vec<Vec<Capsule>>,
+    /// Candidates of the step in progress whose contacts showed they cannot push from every
+    /// side, where only that could let them count: left unjudged.
+    ruled_out: [bool; 6],
     /// The sink has heard of the current best valid pose.
     best_told: bool,
     /// A restart's work not done yet: it runs in slices.
@@ -340,6 +343,7 @@ impl<'a> GraspPlanner<'a> {
             candidate_capsules: (0..6)
                 .map(|_| Vec::with_capacity(hand.capsules().len()))
                 .collect(),
+            ruled_out: [false; 6],
             best_told: false,
             restarting: None,
             step_size: 0,
@@ -460,6 +464,7 @@ impl<'a> GraspPlanner<'a> {
                 );
                 self.axis = (self.axis + 1) % 3;
                 self.evaluated = 0;
+                self.ruled_out = [false; 6];
             }
             let whole_steps = self.workspaces.len() > 1;
             if self.evaluated < self.step_size {
@@ -558,8 +563,10 @@ impl<'a> GraspPlanner<'a> {
     /// pushes from every side: no candidate of lower quality can then become the current or the
     /// best pose. It stops sooner at a quality that can beat neither the valid current pose nor
     /// the best, when those push from every side (a one-sided pose any candidate that turns out
-    /// to push from every side beats, whatever its quality). Returns whether
-    /// the step's outcome is decided; called again, it goes on where it stopped.
+    /// to push from every side beats, whatever its quality). A candidate below the quality of a
+    /// one-sided current pose and best could only count by pushing from every side: its contacts
+    /// are found first, and if they push from one side its force closure is not judged. Returns
+    /// whether the step's outcome is decided; called again, it goes on where it stopped.
     fn judge_deferred_stability(&mut self, mut most: usize) -> bool {
         let n = self.step_size;
         let mut order = [0, 1, 2, 3, 4, 5];
@@ -573,7 +580,7 @@ impl<'a> GraspPlanner<'a> {
             let Some(e) = self.results[k].as_mut() else {
                 continue;
             };
-            if !self.ctx.stability_pending(e) {
+            if !self.ctx.stability_pending(e) || self.ruled_out[k] {
                 continue;
             }
             // A pending pose may yet push from every side: it can beat a one-sided pose of
@@ -588,13 +595,29 @@ impl<'a> GraspPlanner<'a> {
             if !beats_current && !beats_best {
                 return true;
             }
+            // Below the quality of a valid one-sided current pose and best, it can beat them
+            // only by pushing from every side: its contacts say whether it could, before the
+            // force-closure program is solved.
+            let one_sided_above = |other: &Evaluation| {
+                other.validity.is_ok()
+                    && !self.ctx.pushes_from_every_side(other)
+                    && e.quality <= other.quality
+            };
+            let only_from_every_side = one_sided_above(&self.current)
+                && self.best_valid.as_ref().is_some_and(one_sided_above);
             if most == 0 {
                 return false;
             }
             most -= 1;
             let ws = &mut self.workspaces[0];
             ws.capsules.clone_from(&self.candidate_capsules[k]);
-            self.ctx.judge_stability(e, ws);
+            self.ctx.find_contacts(ws);
+            if only_from_every_side && !self.ctx.contacts_push_from_every_side(ws) {
+                // It stays unjudged: it cannot become the current or the best pose.
+                self.ruled_out[k] = true;
+                continue;
+            }
+            self.ctx.judge_found_contacts(e, ws);
             if e.validity.is_ok() && self.ctx.pushes_from_every_side(e) {
                 return true;
             }

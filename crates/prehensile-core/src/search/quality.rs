@@ -469,6 +469,13 @@ impl EvaluationContext<'_> {
                 .is_none_or(|cap| cap >= std::f64::consts::FRAC_PI_2)
     }
 
+    /// Do the contacts in `ws.contacts` push from every side (their normals in no open
+    /// half-space)? What [`EvaluationContext::pushes_from_every_side`] asks of a valid wrap, from
+    /// its contacts alone, before its force closure is judged.
+    pub fn contacts_push_from_every_side(&self, ws: &Workspace) -> bool {
+        narrowest_normal_cap(ws.contacts.iter().map(|c| c.normal)) >= std::f64::consts::FRAC_PI_2
+    }
+
     /// The order of poses in the search (higher is better): valid before invalid, among valid
     /// ones [`EvaluationContext::pushes_from_every_side`] first, then quality (invalid poses
     /// by quality alone).
@@ -491,8 +498,13 @@ impl EvaluationContext<'_> {
     /// `ws.capsules`: its contacts, force-closure margin, the rules that need contacts, and its
     /// quality with the stability term.
     pub fn judge_stability(&self, eval: &mut Evaluation, ws: &mut Workspace) {
-        ws.counters.stability_tests += 1;
         self.find_contacts(ws);
+        self.judge_found_contacts(eval, ws);
+    }
+
+    /// [`EvaluationContext::judge_stability`] once the pose's contacts are in `ws.contacts`.
+    pub fn judge_found_contacts(&self, eval: &mut Evaluation, ws: &mut Workspace) {
+        ws.counters.stability_tests += 1;
         let margin = ws.wrench_space.closure_margin(
             &ws.contacts,
             &self.contact_model,
