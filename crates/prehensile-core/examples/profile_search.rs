@@ -3,12 +3,16 @@
 //! by the first argument (default sphere). The seeds share one object, so the first search fills
 //! the distance grid's nodes it needs and the later ones reuse them. A second argument runs the
 //! three seeds that many rounds (default 1), so that a profile of the later rounds sees the
-//! search on a warm grid, as a batch or a game that keeps its object does.
+//! search on a warm grid, as a batch or a game that keeps its object does. A third argument names
+//! another hand (built-in or a hand file) whose `power` movement is searched instead.
 use prehensile_core::math::Vec3;
 use prehensile_core::search::{default_shoulder, GraspPlanner, SearchParams};
 use prehensile_core::{shapes, ObjectModel};
 fn main() {
-    let hand = prehensile_formats::builtin_hand("human").unwrap();
+    let hand = prehensile_formats::sources::hand_from_spec(
+        &std::env::args().nth(3).unwrap_or_else(|| "human".into()),
+    )
+    .expect("a built-in hand or a hand file");
     let name = std::env::args().nth(1).unwrap_or_else(|| "sphere".into());
     let object = match shapes::builtin_object(&name) {
         Some(mesh) => ObjectModel::new(&name, mesh, None).unwrap(),
