@@ -94,15 +94,13 @@ fn bad_files_exit_two_with_a_reason() {
 
 #[test]
 fn no_valid_grasp_exits_one_and_names_the_test_that_failed() {
-    // A torus 2.5 times the built-in one: the power search from the default shoulder ends with
-    // no finger on it.
-    let json = scratch("big_torus.json");
+    // The 4.5 cm lemon scan: the human power search closes middle, ring and little fingers
+    // round it from one side, the thumb passing beside it, and finds nothing better.
+    let json = scratch("lemon_power.json");
     let out = prehensile(&[
         "grasp",
         "--object",
-        "torus",
-        "--scale",
-        "2.5",
+        &asset("objects/robosuite_lemon.stl"),
         "--movement",
         "power",
         "--out",
@@ -111,8 +109,8 @@ fn no_valid_grasp_exits_one_and_names_the_test_that_failed() {
     assert_eq!(out.status.code(), Some(1), "{}", text(&out.stderr));
     let err = text(&out.stderr);
     assert!(
-        err.contains("no valid grasp: 0 finger(s) touch the object, 3 needed")
-            && err.contains("fingers touching: none,"),
+        err.contains("no valid grasp: every contact pushes the object one way")
+            && err.contains("fingers touching: middle, ring, little,"),
         "{err}"
     );
     let result: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
@@ -120,7 +118,7 @@ fn no_valid_grasp_exits_one_and_names_the_test_that_failed() {
     assert!(result["invalid_reason"]
         .as_str()
         .unwrap()
-        .contains("finger(s) touch"));
+        .contains("a squeeze would push it out of the hand"));
 }
 
 #[test]

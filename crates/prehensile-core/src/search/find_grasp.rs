@@ -233,8 +233,7 @@ fn best_result(hand: &HandModel, planners: &[GraspPlanner], threads: usize) -> G
     }
     // (valid, pushes from every side, ε, −gDist): `better_grasp`'s order after the ranking.
     let judge = |p: &&GraspPlanner| {
-        let chosen = p.best().unwrap_or(p.current());
-        let ctx = p.context();
+        let (chosen, ctx) = p.chosen();
         let mut ws = Workspace::new(hand);
         ctx.evaluate_pose(&chosen.rotation, &mut ws);
         (

@@ -3,6 +3,7 @@
 
 pub mod find_grasp;
 pub mod initial_approximation;
+pub mod material_hook;
 pub mod optimization_step;
 pub mod planner;
 pub mod quality;

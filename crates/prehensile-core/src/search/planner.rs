@@ -1,5 +1,7 @@
 //! The anytime planner (§5.1, §5.6, §6.5.6): advance one step or for a time budget, resume later,
-//! always hold the best valid pose so far, and restart when the character turns.
+//! always hold the best valid pose so far, restart when the character turns, and move a hook
+//! that lies outside the object into its material when hanging from it gives no grasp that
+//! pushes from every side.
 
 use std::time::Duration;
 
@@ -16,6 +18,7 @@ use crate::object::ObjectModel;
 use crate::workspace::Workspace;
 
 use super::initial_approximation::InitialApproximation;
+use super::material_hook::material_hook;
 use super::optimization_step::{step_candidates, StepKind};
 use super::quality::{Evaluation, EvaluationContext, Invalid, QualityWeights, ValidityRule};
 use super::random::SplitMix64;
@@ -204,6 +207,9 @@ pub struct SearchStats {
     pub stability_tests: u64,
     /// Restarts after the character turned.
     pub restarts: u32,
+    /// Searches begun again from a hook in the object's material, the first hook lying
+    /// outside it ([`GraspPlanner`]; 0 or 1).
+    pub hook_moves: u32,
     /// Time spent searching, seconds.
     pub seconds: f64,
 }
@@ -221,6 +227,13 @@ pub struct GraspPlanner<'a> {
     since_improvement: u32,
     /// Steps ended with a valid best pose that pushes from one side only.
     one_sided_steps: u32,
+    /// The hook nearest the shoulder, which the search starts from after every restart.
+    first_hook: Point3,
+    /// The search has tried a hook in the material instead of `first_hook`.
+    hook_moved: bool,
+    /// The context of the hook the best valid pose was found on, when the search has since
+    /// moved to another.
+    best_found_at: Option<EvaluationContext<'a>>,
     axis: usize,
     stats: SearchStats,
     workspaces: Vec<Workspace>,
@@ -335,6 +348,9 @@ impl<'a> GraspPlanner<'a> {
             status: PlannerStatus::Searching,
             since_improvement: 0,
             one_sided_steps: 0,
+            first_hook: hook,
+            hook_moved: false,
+            best_found_at: None,
             axis: 0,
             stats: SearchStats::default(),
             workspaces: (0..threads).map(|_| Workspace::new(hand)).collect(),
@@ -364,6 +380,7 @@ impl<'a> GraspPlanner<'a> {
         });
         self.current = placeholder(self.ctx.start);
         self.best_valid = None;
+        self.best_found_at = None;
         self.status = PlannerStatus::Searching;
         self.since_improvement = 0;
         self.one_sided_steps = 0;
@@ -405,8 +422,63 @@ impl<'a> GraspPlanner<'a> {
                 .is_none_or(|b| self.ctx.rank(e) > self.ctx.rank(b))
         {
             self.best_valid = Some(e.clone());
+            self.best_found_at = None;
             self.best_told = false;
         }
+    }
+
+    /// Should the search move its hook into the material? Once, under a rule that judges
+    /// contacts, when it has no valid grasp that pushes from every side and is about to stop,
+    /// or has none valid after [`SearchParams::one_sided_patience`] steps (at least the stop
+    /// rule's).
+    fn hook_should_move(&self) -> bool {
+        if self.hook_moved || !self.ctx.validity.judges_contacts() {
+            return false;
+        }
+        let every_side = self
+            .best_valid
+            .as_ref()
+            .is_some_and(|b| self.ctx.pushes_from_every_side(b));
+        let stop_steps = match self.params.stop {
+            StopRule::NoImprovement { steps } => steps,
+            StopRule::ThesisLocalMaximum => 0,
+        };
+        let patience = self.params.one_sided_patience.max(stop_steps);
+        !every_side
+            && (self.status != PlannerStatus::Searching
+                || (self.best_valid.is_none() && self.stats.steps >= patience))
+    }
+
+    /// Begins the search again from the middle of the material nearest the hook
+    /// ([`material_hook`]), keeping the best valid pose (with the context it was found in)
+    /// for the new search to beat. Returns whether the hook moved: not when it is in the
+    /// material already or none is within the hand's reach.
+    fn move_hook_into_material(&mut self) -> bool {
+        self.hook_moved = true;
+        let Some(hook) = material_hook(
+            self.ctx.object.collider().exact(),
+            &self.ctx.hook,
+            &-self.reach_direction,
+            &self.params.up,
+            hand_reach(self.ctx.hand),
+        ) else {
+            return false;
+        };
+        let Some(start) = start_rotation(&hook, &self.ctx.shoulder, &self.params.up) else {
+            return false;
+        };
+        let best = self.best_valid.take();
+        let found_at = best
+            .as_ref()
+            .map(|_| self.best_found_at.unwrap_or(self.ctx));
+        self.ctx.hook = hook;
+        self.ctx.start = start;
+        self.reach_direction = horizontal(&(hook - self.ctx.shoulder), &self.params.up);
+        self.stats.hook_moves += 1;
+        self.restart();
+        self.best_valid = best;
+        self.best_found_at = found_at;
+        true
     }
 
     fn collect_counters(&mut self) {
@@ -548,6 +620,9 @@ impl<'a> GraspPlanner<'a> {
             _ if self.stats.steps >= self.params.max_steps => PlannerStatus::StepLimit,
             _ => PlannerStatus::Searching,
         };
+        if self.stats.steps < self.params.max_steps && self.hook_should_move() {
+            self.move_hook_into_material();
+        }
     }
 
     /// Does the planner judge its candidates' stability lazily
@@ -704,9 +779,13 @@ impl<'a> GraspPlanner<'a> {
     /// Tells the planner where the shoulder is now. If the direction from the shoulder to the
     /// hook, seen from above, turned by more than the restart angle, the search restarts from the
     /// new starting position (§6.5.6) and returns true; otherwise only wDist changes.
+    /// A search that had moved its hook into the material restarts from its first hook.
     pub fn set_shoulder(&mut self, shoulder: Point3) -> Result<bool, SearchError> {
         check_params(&self.params, &shoulder)?;
-        let start = start_rotation(&self.ctx.hook, &shoulder, &self.params.up).ok_or(
+        start_rotation(&self.ctx.hook, &shoulder, &self.params.up).ok_or(
+            SearchError::ShoulderOnHook([shoulder.x, shoulder.y, shoulder.z]),
+        )?;
+        let first_start = start_rotation(&self.first_hook, &shoulder, &self.params.up).ok_or(
             SearchError::ShoulderOnHook([shoulder.x, shoulder.y, shoulder.z]),
         )?;
         self.ctx.shoulder = shoulder;
@@ -714,8 +793,10 @@ impl<'a> GraspPlanner<'a> {
         let pending = self.restarting.is_some();
         let turned = direction.dot(&self.reach_direction).clamp(-1.0, 1.0).acos();
         if turned > self.params.restart_angle {
-            self.ctx.start = start;
-            self.reach_direction = direction;
+            self.ctx.hook = self.first_hook;
+            self.ctx.start = first_start;
+            self.reach_direction = horizontal(&(self.first_hook - shoulder), &self.params.up);
+            self.hook_moved = false;
             self.stats.restarts += 1;
             self.restart();
             return Ok(true);
@@ -730,6 +811,7 @@ impl<'a> GraspPlanner<'a> {
             .ctx
             .evaluate(&self.current.rotation, &mut self.workspaces[0]);
         self.best_valid = None;
+        self.best_found_at = None;
         self.consider_best(&self.current.clone());
         self.status = PlannerStatus::Searching;
         self.since_improvement = 0;
@@ -762,9 +844,20 @@ impl<'a> GraspPlanner<'a> {
         &self.ctx
     }
 
-    /// Re-creates the pose of an evaluation in `ws` (deterministic) and returns it again.
-    pub fn pose(&self, e: &Evaluation, ws: &mut Workspace) -> Evaluation {
-        self.ctx.evaluate(&e.rotation, ws)
+    /// The pose a result reports, the best valid pose or else the current one, with the
+    /// context it was evaluated in (its hook may be one the search has since moved from).
+    pub fn chosen(&self) -> (&Evaluation, &EvaluationContext<'a>) {
+        match &self.best_valid {
+            Some(best) => (best, self.best_found_at.as_ref().unwrap_or(&self.ctx)),
+            None => (&self.current, &self.ctx),
+        }
+    }
+
+    /// Re-creates [`GraspPlanner::chosen`]'s pose in `ws` (deterministic) and returns it again
+    /// with its context.
+    pub fn chosen_pose(&self, ws: &mut Workspace) -> (Evaluation, &EvaluationContext<'a>) {
+        let (e, ctx) = self.chosen();
+        (ctx.evaluate(&e.rotation, ws), ctx)
     }
 }
 

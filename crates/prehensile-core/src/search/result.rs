@@ -6,7 +6,7 @@ use crate::stability::{narrowest_normal_cap, Stability};
 use crate::workspace::Workspace;
 
 use super::planner::{GraspPlanner, PlannerStatus, SearchStats};
-use super::quality::{Evaluation, QualityTerms, CONTACT_TOLERANCE};
+use super::quality::{Evaluation, EvaluationContext, QualityTerms, CONTACT_TOLERANCE};
 
 /// Name and version of the result format.
 pub const RESULT_SCHEMA: &str = "prehensile.grasp/3";
@@ -149,14 +149,17 @@ pub struct GraspResult {
 impl GraspResult {
     /// The planner's best valid pose, or its current pose (marked invalid) if it has none.
     pub fn from_planner(planner: &GraspPlanner, ws: &mut Workspace) -> Self {
-        let chosen = planner.best().unwrap_or(planner.current()).clone();
-        let again = planner.pose(&chosen, ws);
-        Self::from_pose(planner, &again, ws)
+        let (again, ctx) = planner.chosen_pose(ws);
+        Self::from_pose(planner, ctx, &again, ws)
     }
 
-    /// Builds the result for evaluation `e` whose pose is in `ws`.
-    fn from_pose(planner: &GraspPlanner, e: &Evaluation, ws: &mut Workspace) -> Self {
-        let ctx = planner.context();
+    /// Builds the result for evaluation `e` in context `ctx` whose pose is in `ws`.
+    fn from_pose(
+        planner: &GraspPlanner,
+        ctx: &EvaluationContext,
+        e: &Evaluation,
+        ws: &mut Workspace,
+    ) -> Self {
         let stability = ctx.stability(ws);
         let normal_cone_degrees =
             narrowest_normal_cap(ws.contacts.iter().map(|c| c.normal)).to_degrees();

@@ -69,7 +69,7 @@ pub fn plan_grasp_along(
     let friction = params.contact_model.friction;
     let mut planner = GraspPlanner::new(hand, object, movement, shoulder, params)?;
     planner.run_to_end();
-    let best = planner.best().cloned().ok_or_else(|| {
+    planner.best().ok_or_else(|| {
         let why = match &planner.current().validity {
             Err(reason) => format!(" (the last pose tried: {reason})"),
             Ok(()) => String::new(),
@@ -82,8 +82,8 @@ pub fn plan_grasp_along(
         ))
     })?;
     let mut ws = Workspace::new(hand);
-    let found = planner.pose(&best, &mut ws);
-    let hook_frame = Transform::from_parts(hook.coords.into(), found.rotation);
+    let (found, ctx) = planner.chosen_pose(&mut ws);
+    let hook_frame = Transform::from_parts(ctx.hook.coords.into(), found.rotation);
     let root = hand_root(&hook_frame, movement, found.offset);
     Ok(PlannedGrasp {
         root,
