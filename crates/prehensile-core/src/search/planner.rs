@@ -587,7 +587,7 @@ impl<'a> GraspPlanner<'a> {
             self.consider_best(&e);
             // Beyond the thesis: a valid grasp beats an invalid one whatever their qualities,
             // and one that pushes from every side a one-sided one (`EvaluationContext::rank`).
-            if self.ctx.rank(&e) > self.ctx.rank(&self.current) {
+            if self.ctx.walk_rank(&e) > self.ctx.walk_rank(&self.current) {
                 self.current = e;
                 improved = true;
             }

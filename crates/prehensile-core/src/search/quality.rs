@@ -58,8 +58,9 @@ pub enum ValidityRule {
     /// (their normals not all within [`one_sided_cap`] of one direction, 78° at μ = 0.5), and
     /// for a movement with contact fingers the first two (thumb and index) pads opposed by at
     /// least [`OPPOSITION_ANGLE`]. The search ranks a wrap that pushes from every side above a
-    /// valid one-sided one ([`EvaluationContext::pushes_from_every_side`]), so a one-sided
-    /// grasp is returned only when none other is found.
+    /// valid one-sided one ([`EvaluationContext::pushes_from_every_side`]) and walks as under
+    /// [`ValidityRule::Strict`] ([`EvaluationContext::walk_rank`]), so a one-sided grasp is
+    /// returned only when none other is found.
     #[default]
     Holds,
     /// The thesis's rules only (§6.4.1): no penetration and enough fingers touching.
@@ -458,9 +459,10 @@ impl EvaluationContext<'_> {
     /// Does the pose rank among the grasps that push from every side? Under
     /// [`ValidityRule::Holds`] a wrap (a movement without contact fingers) whose contact normals
     /// all lie in one open half-space is valid — friction holds it on paper — but ranks below
-    /// every valid wrap that pushes from every side, whatever their qualities: the search keeps
-    /// looking for one and returns the one-sided grasp only when it finds none
-    /// (docs/QUALITY.md, session 27). Every other pose ranks by validity and quality alone.
+    /// every valid wrap that pushes from every side, whatever their qualities, and the search
+    /// walks past it as if it were invalid ([`EvaluationContext::walk_rank`]): it returns the
+    /// one-sided grasp only when it finds none that pushes from every side (docs/QUALITY.md,
+    /// sessions 27 and 29). Every other pose ranks by validity and quality alone.
     pub fn pushes_from_every_side(&self, eval: &Evaluation) -> bool {
         self.validity != ValidityRule::Holds
             || !self.movement.contact_fingers().is_empty()
@@ -476,14 +478,27 @@ impl EvaluationContext<'_> {
         narrowest_normal_cap(ws.contacts.iter().map(|c| c.normal)) >= std::f64::consts::FRAC_PI_2
     }
 
-    /// The order of poses in the search (higher is better): valid before invalid, among valid
+    /// The order of the best poses (higher is better): valid before invalid, among valid
     /// ones [`EvaluationContext::pushes_from_every_side`] first, then quality (invalid poses
-    /// by quality alone).
+    /// by quality alone). The current pose moves by [`EvaluationContext::walk_rank`].
     pub fn rank(&self, eval: &Evaluation) -> (bool, bool, f64) {
         let valid = eval.validity.is_ok();
         (
             valid,
             valid && self.pushes_from_every_side(eval),
+            eval.quality,
+        )
+    }
+
+    /// The order the search moves its current pose by (higher is better): valid grasps that
+    /// [push from every side](EvaluationContext::pushes_from_every_side) before every other
+    /// pose, then quality. A one-sided wrap ranks among the invalid poses here, so the search
+    /// walks as [`ValidityRule::Strict`]'s does and is not caught in the one-sided grasps around
+    /// it; the best valid pose, by [`EvaluationContext::rank`], keeps it as the grasp returned
+    /// when none that pushes from every side turns up.
+    pub fn walk_rank(&self, eval: &Evaluation) -> (bool, f64) {
+        (
+            eval.validity.is_ok() && self.pushes_from_every_side(eval),
             eval.quality,
         )
     }
