@@ -265,7 +265,9 @@ pub struct GraspArgs {
     /// power, precision, close, any movement of the hand, or auto (try each, keep the best; a movement with nothing valid after 100 steps stops once another has found its grasp).
     #[arg(long, default_value = "auto")]
     pub movement: String,
-    /// Hook position X,Y,Z in the object's frame (default: its centre of mass).
+    /// Hook position X,Y,Z in the object's frame (default: its centre of mass). A hook outside
+    /// the object's material that gives no grasp pushing from every side is moved into the
+    /// material once (the result's `hook` and `stats.hook_moves` say so).
     #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
     pub hook: Option<[f64; 3]>,
     /// Shoulder position X,Y,Z (default: 35 cm behind, 20 cm aside and 35 cm above the hook).

@@ -134,19 +134,19 @@ mod tests {
     #[test]
     fn a_movement_passes_through_its_via_pose() {
         let human = include_str!("../../../assets/hands/human.toml");
+        // The power movement's own via pose (session 29), its fraction and thumb metacarpal
+        // angles replaced.
+        let (fraction_line, thumb_line) = (
+            "via_fraction = 0.5\n",
+            "[movements.via]\nthumb_metacarpal = [50.0, -15.0]",
+        );
+        assert!(human.contains(fraction_line) && human.contains(thumb_line));
         let with_via = |fraction: &str, thumb: &str| {
             human
+                .replacen(fraction_line, &format!("via_fraction = {fraction}\n"), 1)
                 .replacen(
-                    "grasp_center = [0.008, 0.045, 0.085]\n",
-                    &format!("grasp_center = [0.008, 0.045, 0.085]\nvia_fraction = {fraction}\n"),
-                    1,
-                )
-                .replacen(
-                    "[movements.end]\nthumb_metacarpal = [50.0, -15.0]",
-                    &format!(
-                        "[movements.via]\nthumb_metacarpal = {thumb}\n\
-                         [movements.end]\nthumb_metacarpal = [50.0, -15.0]"
-                    ),
+                    thumb_line,
+                    &format!("[movements.via]\nthumb_metacarpal = {thumb}"),
                     1,
                 )
         };
@@ -180,7 +180,7 @@ mod tests {
         // (A hinge's angle goes linearly; the thumb's two-axis joint goes by slerp.)
         let later = angles_at(0.625);
         assert!((later[index].to_degrees() - 50.0).abs() < 1e-9);
-        assert!((angles_at(1.0)[thumb].to_degrees() - 50.0).abs() < 1e-9);
+        assert!((angles_at(1.0)[thumb].to_degrees() - 45.0).abs() < 1e-9);
         for (a, b) in at.iter().zip(via.angles()) {
             assert!((a - b).abs() < 1e-9);
         }

@@ -94,13 +94,14 @@ fn bad_files_exit_two_with_a_reason() {
 
 #[test]
 fn no_valid_grasp_exits_one_and_names_the_test_that_failed() {
-    // The 4.5 cm lemon scan: the human power search closes middle, ring and little fingers
-    // round it from one side, the thumb passing beside it, and finds nothing better.
-    let json = scratch("lemon_power.json");
+    // A ball 8 mm across: the human power search closes two fingers on it at most.
+    let json = scratch("small_ball_power.json");
     let out = prehensile(&[
         "grasp",
         "--object",
-        &asset("objects/robosuite_lemon.stl"),
+        "sphere",
+        "--scale",
+        "0.1",
         "--movement",
         "power",
         "--out",
@@ -109,8 +110,8 @@ fn no_valid_grasp_exits_one_and_names_the_test_that_failed() {
     assert_eq!(out.status.code(), Some(1), "{}", text(&out.stderr));
     let err = text(&out.stderr);
     assert!(
-        err.contains("no valid grasp: every contact pushes the object one way")
-            && err.contains("fingers touching: middle, ring, little,"),
+        err.contains("no valid grasp: 2 finger(s) touch the object, 3 needed")
+            && err.contains("fingers touching: middle, ring,"),
         "{err}"
     );
     let result: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
@@ -118,7 +119,7 @@ fn no_valid_grasp_exits_one_and_names_the_test_that_failed() {
     assert!(result["invalid_reason"]
         .as_str()
         .unwrap()
-        .contains("a squeeze would push it out of the hand"));
+        .contains("finger(s) touch"));
 }
 
 #[test]
