@@ -5,16 +5,16 @@
 use prehensile_control::{
     crba, rnea, BaseMotion, ControllerState, DynamicsModel, Gains, GraspController, PerSetpoint,
 };
-use prehensile_core::allocation_count::{allocations, CountingAllocator};
+use prehensile_core::allocation_count::{allocations_on_this_thread, CountingAllocator};
 use prehensile_core::math::Vec3;
 
 #[global_allocator]
 static COUNT: CountingAllocator = CountingAllocator;
 
 fn allocations_in(f: impl FnOnce()) -> usize {
-    let before = allocations();
+    let before = allocations_on_this_thread();
     f();
-    allocations() - before
+    allocations_on_this_thread() - before
 }
 
 #[test]

@@ -5,9 +5,15 @@
 //! every allocation.
 
 use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+thread_local! {
+    // A const-initialized cell: reading it allocates nothing, so the allocator may use it.
+    static ON_THIS_THREAD: Cell<usize> = const { Cell::new(0) };
+}
 
 /// The system allocator, counting every allocation.
 pub struct CountingAllocator;
@@ -16,6 +22,8 @@ pub struct CountingAllocator;
 unsafe impl GlobalAlloc for CountingAllocator {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
         ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        // A thread being torn down has no cell left: its allocations count only above.
+        let _ = ON_THIS_THREAD.try_with(|n| n.set(n.get() + 1));
         // SAFETY: the caller's contract is the system allocator's.
         unsafe { System.alloc(layout) }
     }
@@ -29,4 +37,11 @@ unsafe impl GlobalAlloc for CountingAllocator {
 /// Allocations so far in this process (all threads) while [`CountingAllocator`] is installed.
 pub fn allocations() -> usize {
     ALLOCATIONS.load(Ordering::SeqCst)
+}
+
+/// Allocations so far on the calling thread while [`CountingAllocator`] is installed: what a
+/// loop run on this thread allocated, whatever other threads of the process (the test
+/// harness's, a pool's still winding down) do meanwhile.
+pub fn allocations_on_this_thread() -> usize {
+    ON_THIS_THREAD.with(Cell::get)
 }

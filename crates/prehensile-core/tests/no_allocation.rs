@@ -3,7 +3,7 @@
 
 mod common;
 
-use prehensile_core::allocation_count::{allocations, CountingAllocator};
+use prehensile_core::allocation_count::{allocations_on_this_thread, CountingAllocator};
 use prehensile_core::finger_closing::{close_fingers, ClosingParams};
 use prehensile_core::Workspace;
 
@@ -18,11 +18,11 @@ fn finger_closing_allocates_nothing() {
     let root = common::free_root(&hand, &object, "power", &mut ws);
     let movement = hand.movement("power").unwrap();
     let params = ClosingParams::default();
-    let before = allocations();
+    let before = allocations_on_this_thread();
     for _ in 0..10 {
         close_fingers(&hand, &object, movement, &root, &params, &mut ws);
     }
-    let after = allocations();
+    let after = allocations_on_this_thread();
     assert!(ws.counters.queries > 0);
     assert_eq!(
         after - before,
