@@ -210,6 +210,9 @@ pub struct SearchStats {
     /// Searches begun again from a hook in the object's material, the first hook lying
     /// outside it ([`GraspPlanner`]; 0 or 1).
     pub hook_moves: u32,
+    /// Searches begun again with the hand hung nearer its palm, the hook lying in the
+    /// material ([`GraspPlanner`]; 0 or 1).
+    pub hung_nearer_palm: u32,
     /// Time spent searching, seconds.
     pub seconds: f64,
 }
@@ -229,8 +232,8 @@ pub struct GraspPlanner<'a> {
     one_sided_steps: u32,
     /// The hook nearest the shoulder, which the search starts from after every restart.
     first_hook: Point3,
-    /// The search has tried a hook in the material instead of `first_hook`.
-    hook_moved: bool,
+    /// The search has hung the hand a second time ([`GraspPlanner::hang_again`]).
+    hung_again: bool,
     /// The context of the hook the best valid pose was found on, when the search has since
     /// moved to another.
     best_found_at: Option<EvaluationContext<'a>>,
@@ -267,6 +270,16 @@ enum Restart {
 /// of a step costs. One a slice (six until session 10) keeps a 4 ms frame in wasm on the mug
 /// (frames at most 4.8 ms where six a slice took 13 ms each; `docs/PERFORMANCE.md`).
 pub const SAMPLES_PER_SLICE: usize = 1;
+
+/// The fraction of its grasp center's height out of the palm by which a search's second hang
+/// brings the hand nearer an object its first found no grasp pushing from every side of. The
+/// Shadow hand's power grasps of the 4.5 cm lemon: hung at its derived grasp center, 4.8 cm out
+/// of the palm, it caged the lemon between its fingertips (one-sided, or nothing valid, on every
+/// seed); hung 2.4 to 2.8 cm out, it closed on it from every side with the thumb on it, hung 3.3
+/// cm or more, nothing valid (docs/QUALITY.md, session 29). Hung that near from the first, the
+/// hand gripped the torus by its tube where MuJoCo let it turn under gravity: the nearer hang is
+/// a second try, not the first.
+pub const SECOND_HANG_NEARER: f64 = 0.45;
 
 /// The default [`SearchParams::one_sided_patience`]: steps a search goes on with a valid best
 /// grasp that pushes from one side only, looking for one that pushes from every side.
@@ -326,6 +339,7 @@ impl<'a> GraspPlanner<'a> {
             object,
             movement,
             hook,
+            hang_shift: 0.0,
             shoulder,
             start,
             wrist_range: params.wrist_range,
@@ -349,7 +363,7 @@ impl<'a> GraspPlanner<'a> {
             since_improvement: 0,
             one_sided_steps: 0,
             first_hook: hook,
-            hook_moved: false,
+            hung_again: false,
             best_found_at: None,
             axis: 0,
             stats: SearchStats::default(),
@@ -427,12 +441,11 @@ impl<'a> GraspPlanner<'a> {
         }
     }
 
-    /// Should the search move its hook into the material? Once, under a rule that judges
-    /// contacts, when it has no valid grasp that pushes from every side and is about to stop,
-    /// or has none valid after [`SearchParams::one_sided_patience`] steps (at least the stop
-    /// rule's).
-    fn hook_should_move(&self) -> bool {
-        if self.hook_moved || !self.ctx.validity.judges_contacts() {
+    /// Should the search hang the hand again? Once, under a rule that judges contacts, when it
+    /// has no valid grasp that pushes from every side and is about to stop, or has none valid
+    /// after [`SearchParams::one_sided_patience`] steps (at least the stop rule's).
+    fn should_hang_again(&self) -> bool {
+        if self.hung_again || !self.ctx.validity.judges_contacts() {
             return false;
         }
         let every_side = self
@@ -449,36 +462,43 @@ impl<'a> GraspPlanner<'a> {
                 || (self.best_valid.is_none() && self.stats.steps >= patience))
     }
 
-    /// Begins the search again from the middle of the material nearest the hook
-    /// ([`material_hook`]), keeping the best valid pose (with the context it was found in)
-    /// for the new search to beat. Returns whether the hook moved: not when it is in the
-    /// material already or none is within the hand's reach.
-    fn move_hook_into_material(&mut self) -> bool {
-        self.hook_moved = true;
-        let Some(hook) = material_hook(
+    /// Begins the search again with the hand hung differently, keeping the best valid pose
+    /// (with the context it was found in) for the new search to beat: from the middle of the
+    /// material nearest the hook ([`material_hook`]) when the hook lies outside the object
+    /// (a ring's hole), else [`SECOND_HANG_NEARER`] of the grasp center's height nearer the
+    /// palm, so that an object that sat between the curling fingertips sits against the palm.
+    fn hang_again(&mut self) {
+        self.hung_again = true;
+        let material = material_hook(
             self.ctx.object.collider().exact(),
             &self.ctx.hook,
             &-self.reach_direction,
             &self.params.up,
             hand_reach(self.ctx.hand),
-        ) else {
-            return false;
-        };
-        let Some(start) = start_rotation(&hook, &self.ctx.shoulder, &self.params.up) else {
-            return false;
-        };
+        )
+        .and_then(|hook| {
+            start_rotation(&hook, &self.ctx.shoulder, &self.params.up).map(|start| (hook, start))
+        });
+        let shift = SECOND_HANG_NEARER * self.ctx.movement.grasp_center().y;
+        if material.is_none() && (!shift.is_finite() || shift <= 0.0) {
+            return;
+        }
         let best = self.best_valid.take();
         let found_at = best
             .as_ref()
             .map(|_| self.best_found_at.unwrap_or(self.ctx));
-        self.ctx.hook = hook;
-        self.ctx.start = start;
-        self.reach_direction = horizontal(&(hook - self.ctx.shoulder), &self.params.up);
-        self.stats.hook_moves += 1;
+        if let Some((hook, start)) = material {
+            self.ctx.hook = hook;
+            self.ctx.start = start;
+            self.reach_direction = horizontal(&(hook - self.ctx.shoulder), &self.params.up);
+            self.stats.hook_moves += 1;
+        } else {
+            self.ctx.hang_shift = shift;
+            self.stats.hung_nearer_palm += 1;
+        }
         self.restart();
         self.best_valid = best;
         self.best_found_at = found_at;
-        true
     }
 
     fn collect_counters(&mut self) {
@@ -620,8 +640,8 @@ impl<'a> GraspPlanner<'a> {
             _ if self.stats.steps >= self.params.max_steps => PlannerStatus::StepLimit,
             _ => PlannerStatus::Searching,
         };
-        if self.stats.steps < self.params.max_steps && self.hook_should_move() {
-            self.move_hook_into_material();
+        if self.stats.steps < self.params.max_steps && self.should_hang_again() {
+            self.hang_again();
         }
     }
 
@@ -796,7 +816,8 @@ impl<'a> GraspPlanner<'a> {
             self.ctx.hook = self.first_hook;
             self.ctx.start = first_start;
             self.reach_direction = horizontal(&(self.first_hook - shoulder), &self.params.up);
-            self.hook_moved = false;
+            self.ctx.hang_shift = 0.0;
+            self.hung_again = false;
             self.stats.restarts += 1;
             self.restart();
             return Ok(true);

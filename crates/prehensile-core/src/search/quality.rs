@@ -351,6 +351,9 @@ pub struct EvaluationContext<'a> {
     pub movement: &'a GraspMovement,
     /// The hook point, world.
     pub hook: Point3,
+    /// How much nearer the palm than the movement's grasp center the hand hangs from the hook,
+    /// metres: 0, or more in a search's second hang ([`crate::search::GraspPlanner`]).
+    pub hang_shift: f64,
     /// The character's shoulder, world.
     pub shoulder: Point3,
     /// Hook rotation of the starting position.
@@ -377,9 +380,13 @@ pub struct EvaluationContext<'a> {
 }
 
 impl EvaluationContext<'_> {
-    /// Hook transform for a rotation.
+    /// Hook transform for a rotation: at the hook, moved [`EvaluationContext::hang_shift`]
+    /// along its +y (toward the palm, which faces +y) so that the hand hangs that much nearer
+    /// its palm. An evaluation's `offset` is measured from here; a result reports it less the
+    /// shift, from the hook itself.
     pub fn hook_frame(&self, rotation: &Rotation) -> Transform {
         Transform::from_parts(self.hook.coords.into(), *rotation)
+            * Transform::translation(0.0, self.hang_shift, 0.0)
     }
 
     /// Places the hand for `rotation` (TranslateToFree, then finger closing) and evaluates it.

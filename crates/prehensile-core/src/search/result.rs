@@ -204,7 +204,7 @@ impl GraspResult {
             hook: ctx.hook.into(),
             shoulder: ctx.shoulder.into(),
             hook_rotation_xyzw: [q.i, q.j, q.k, q.w],
-            offset: e.offset,
+            offset: e.offset - ctx.hang_shift,
             quality: e.quality.is_finite().then_some(e.quality),
             terms: e.terms,
             fingers_touching,

@@ -1045,6 +1045,41 @@ fn a_ring_the_hand_cannot_pinch_from_its_hole_is_pinched_by_its_rim() {
 }
 
 #[test]
+fn a_small_object_the_first_hang_cages_is_grasped_hung_nearer_the_palm() {
+    // The Shadow hand's power grasp of the 4.5 cm lemon scan, seed 1: hung from its derived
+    // grasp center, 4.8 cm out of the palm, the lemon sits between the curling fingertips and
+    // no valid grasp is found in 120 steps (until session 29: none in 500). The search then
+    // hangs the hand again, nearer its palm, and closes on the lemon from every side with the
+    // thumb on it.
+    let hand = prehensile_formats::load_hand_mjcf(&common::repo_path(
+        "assets/hands/shadow_hand/reach.xml",
+    ))
+    .unwrap();
+    let lemon = fixture("robosuite_lemon.stl", 1.0);
+    let r = search(&hand, &lemon, "power", SHOULDERS[0], 1);
+    assert!(r.valid, "{:?}", r.invalid_reason);
+    assert_eq!((r.stats.hung_nearer_palm, r.stats.hook_moves), (1, 0));
+    assert!(r.normal_cone_degrees >= 89.9, "{}", r.normal_cone_degrees);
+    assert!(r.fingers_touching.iter().any(|f| f == "thumb"));
+    assert_eq!(Point3::from(r.hook), lemon.center_of_mass());
+    // The result's offset is from the hook itself: the hook frame moved `offset` along −y, less
+    // the grasp center, is the wrist the result reports.
+    let movement = hand.movement("power").unwrap();
+    let q = r.hook_rotation_xyzw;
+    let hook = prehensile_core::math::Transform::from_parts(
+        Point3::from(r.hook).coords.into(),
+        Rotation::from_quaternion(nalgebra::Quaternion::new(q[3], q[0], q[1], q[2])),
+    );
+    let root = prehensile_core::search::translate_to_free::hand_root(&hook, movement, r.offset);
+    let wrist = Vec3::from(r.wrist.position);
+    assert!(
+        (root.translation.vector - wrist).norm() < 1e-9,
+        "{root:?} {wrist:?}"
+    );
+    assert!(r.offset < r.terms.gdist, "{} {}", r.offset, r.terms.gdist);
+}
+
+#[test]
 fn the_default_rule_walks_as_strict_does_and_keeps_one_sided_grasps_in_reserve() {
     // Under the default rule a one-sided wrap is valid but ranks, for where the search moves
     // next, among the invalid poses: the search takes `--validity strict`'s path and returns its

@@ -83,8 +83,7 @@ pub fn plan_grasp_along(
     })?;
     let mut ws = Workspace::new(hand);
     let (found, ctx) = planner.chosen_pose(&mut ws);
-    let hook_frame = Transform::from_parts(ctx.hook.coords.into(), found.rotation);
-    let root = hand_root(&hook_frame, movement, found.offset);
+    let root = hand_root(&ctx.hook_frame(&found.rotation), movement, found.offset);
     Ok(PlannedGrasp {
         root,
         approach: found.rotation * Vec3::y(),
