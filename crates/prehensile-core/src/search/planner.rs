@@ -210,9 +210,10 @@ pub struct SearchStats {
     /// Searches begun again from a hook in the object's material, the first hook lying
     /// outside it ([`GraspPlanner`]; 0 or 1).
     pub hook_moves: u32,
-    /// Searches begun again with the hand hung nearer its palm, the hook lying in the
-    /// material ([`GraspPlanner`]; 0 or 1).
-    pub hung_nearer_palm: u32,
+    /// Searches begun again with the hand hung nearer its palm or farther from it, the hook
+    /// lying in the material ([`GraspPlanner`]; 0 or 1; the result's `terms.gdist` less its
+    /// `offset` is how much nearer, negative for farther).
+    pub hung_again: u32,
     /// Time spent searching, seconds.
     pub seconds: f64,
 }
@@ -280,6 +281,14 @@ pub const SAMPLES_PER_SLICE: usize = 1;
 /// hand gripped the torus by its tube where MuJoCo let it turn under gravity: the nearer hang is
 /// a second try, not the first.
 pub const SECOND_HANG_NEARER: f64 = 0.45;
+
+/// The fraction of its grasp center's height out of the palm by which a search's second hang
+/// takes the hand farther from an object that had already pushed the open hand back off the
+/// hook (hung nearer, it would back off to where it was). The human hand's power grasps of the
+/// 3 cm thick cereal box from a shoulder turned 60°: the box's top edge against the palm, the
+/// fingers over it, every contact pushing one way (seeds 1–6); hung twice as far out, the edge
+/// sits in the fingers and they close round it from every side (docs/QUALITY.md, session 29).
+pub const SECOND_HANG_FARTHER: f64 = 1.0;
 
 /// The default [`SearchParams::one_sided_patience`]: steps a search goes on with a valid best
 /// grasp that pushes from one side only, looking for one that pushes from every side.
@@ -465,8 +474,10 @@ impl<'a> GraspPlanner<'a> {
     /// Begins the search again with the hand hung differently, keeping the best valid pose
     /// (with the context it was found in) for the new search to beat: from the middle of the
     /// material nearest the hook ([`material_hook`]) when the hook lies outside the object
-    /// (a ring's hole), else [`SECOND_HANG_NEARER`] of the grasp center's height nearer the
-    /// palm, so that an object that sat between the curling fingertips sits against the palm.
+    /// (a ring's hole); else [`SECOND_HANG_NEARER`] of the grasp center's height nearer the
+    /// palm, so that an object that sat between the curling fingertips sits against the palm,
+    /// or, when the object already pushed the open hand back that far,
+    /// [`SECOND_HANG_FARTHER`] of it farther, so that its edge sits in the fingers.
     fn hang_again(&mut self) {
         self.hung_again = true;
         let material = material_hook(
@@ -479,8 +490,9 @@ impl<'a> GraspPlanner<'a> {
         .and_then(|hook| {
             start_rotation(&hook, &self.ctx.shoulder, &self.params.up).map(|start| (hook, start))
         });
-        let shift = SECOND_HANG_NEARER * self.ctx.movement.grasp_center().y;
-        if material.is_none() && (!shift.is_finite() || shift <= 0.0) {
+        let height = self.ctx.movement.grasp_center().y;
+        let nearer = SECOND_HANG_NEARER * height;
+        if material.is_none() && (!nearer.is_finite() || nearer <= 0.0) {
             return;
         }
         let best = self.best_valid.take();
@@ -493,8 +505,15 @@ impl<'a> GraspPlanner<'a> {
             self.reach_direction = horizontal(&(hook - self.ctx.shoulder), &self.params.up);
             self.stats.hook_moves += 1;
         } else {
-            self.ctx.hang_shift = shift;
-            self.stats.hung_nearer_palm += 1;
+            // An object that pushed the open hand back off the hook by `nearer` or more already
+            // sits against the palm: hung nearer, the hand would back off to where it was.
+            let pose = best.as_ref().unwrap_or(&self.current);
+            self.ctx.hang_shift = if pose.offset >= nearer {
+                -SECOND_HANG_FARTHER * height
+            } else {
+                nearer
+            };
+            self.stats.hung_again += 1;
         }
         self.restart();
         self.best_valid = best;
