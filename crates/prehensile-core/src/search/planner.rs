@@ -1,7 +1,7 @@
 //! The anytime planner (§5.1, §5.6, §6.5.6): advance one step or for a time budget, resume later,
-//! always hold the best valid pose so far, restart when the character turns, and move a hook
-//! that lies outside the object into its material when hanging from it gives no grasp that
-//! pushes from every side.
+//! always hold the best valid pose so far, restart when the character turns, and hang the hand
+//! a second time when the first hang gives no grasp pushing from every side (the hook moved into
+//! the object's material, or the hand nearer its palm or farther from it).
 
 use std::time::Duration;
 
