@@ -235,8 +235,8 @@ pub struct GraspPlanner<'a> {
     first_hook: Point3,
     /// The search has hung the hand a second time ([`GraspPlanner::hang_again`]).
     hung_again: bool,
-    /// The context of the hook the best valid pose was found on, when the search has since
-    /// moved to another.
+    /// The context (hook and hang) the best valid pose was found in, when the search has since
+    /// hung the hand again.
     best_found_at: Option<EvaluationContext<'a>>,
     axis: usize,
     stats: SearchStats,
@@ -818,7 +818,7 @@ impl<'a> GraspPlanner<'a> {
     /// Tells the planner where the shoulder is now. If the direction from the shoulder to the
     /// hook, seen from above, turned by more than the restart angle, the search restarts from the
     /// new starting position (§6.5.6) and returns true; otherwise only wDist changes.
-    /// A search that had moved its hook into the material restarts from its first hook.
+    /// A search that had hung the hand again restarts from its first hook and hang.
     pub fn set_shoulder(&mut self, shoulder: Point3) -> Result<bool, SearchError> {
         check_params(&self.params, &shoulder)?;
         start_rotation(&self.ctx.hook, &shoulder, &self.params.up).ok_or(

@@ -352,7 +352,8 @@ pub struct EvaluationContext<'a> {
     /// The hook point, world.
     pub hook: Point3,
     /// How much nearer the palm than the movement's grasp center the hand hangs from the hook,
-    /// metres: 0, or more in a search's second hang ([`crate::search::GraspPlanner`]).
+    /// metres: 0, or in a search's second hang more (nearer) or less (farther out)
+    /// ([`crate::search::GraspPlanner`]).
     pub hang_shift: f64,
     /// The character's shoulder, world.
     pub shoulder: Point3,
