@@ -1,7 +1,8 @@
 //! The anytime planner (§5.1, §5.6, §6.5.6): advance one step or for a time budget, resume later,
-//! always hold the best valid pose so far, restart when the character turns, and hang the hand
-//! a second time when the first hang gives no grasp pushing from every side (the hook moved into
-//! the object's material, or the hand nearer its palm or farther from it).
+//! always hold the best valid pose so far, restart when the character turns, and try again when
+//! a search gives no grasp pushing from every side: first with the hand hung a second time (the
+//! hook moved into the object's material, or the hand nearer its palm or farther from it), then
+//! once more from the same hang along other random angles.
 
 use std::time::Duration;
 
@@ -208,12 +209,15 @@ pub struct SearchStats {
     /// Restarts after the character turned.
     pub restarts: u32,
     /// Searches begun again from a hook in the object's material, the first hook lying
-    /// outside it ([`GraspPlanner`]; 0 or 1).
+    /// outside it, for want of a grasp pushing from every side ([`GraspPlanner`]; 0 or 1).
     pub hook_moves: u32,
     /// Searches begun again with the hand hung nearer its palm or farther from it, the hook
     /// lying in the material ([`GraspPlanner`]; 0 or 1; the result's `terms.gdist` less its
     /// `offset` is how much nearer, negative for farther).
     pub hung_again: u32,
+    /// Searches begun once more from the same hang along other random angles, the second hang
+    /// having found no grasp that pushes from every side either ([`GraspPlanner`]; 0 or 1).
+    pub searched_again: u32,
     /// Time spent searching, seconds.
     pub seconds: f64,
 }
@@ -233,8 +237,10 @@ pub struct GraspPlanner<'a> {
     one_sided_steps: u32,
     /// The hook nearest the shoulder, which the search starts from after every restart.
     first_hook: Point3,
-    /// The search has hung the hand a second time ([`GraspPlanner::hang_again`]).
-    hung_again: bool,
+    /// How often the search has begun again for want of a grasp that pushes from every side
+    /// ([`GraspPlanner::retry`]), and the step it last began (or restarted) at.
+    retries: u32,
+    retried_at_step: u32,
     /// The context (hook and hang) the best valid pose was found in, when the search has since
     /// hung the hand again.
     best_found_at: Option<EvaluationContext<'a>>,
@@ -289,6 +295,15 @@ pub const SECOND_HANG_NEARER: f64 = 0.45;
 /// fingers over it, every contact pushing one way (seeds 1–6); hung twice as far out, the edge
 /// sits in the fingers and they close round it from every side (docs/QUALITY.md, session 29).
 pub const SECOND_HANG_FARTHER: f64 = 1.0;
+
+/// How many times a search may begin again for want of a grasp that pushes from every side
+/// ([`GraspPlanner::retry`]): hung a second time, then along other random angles. The human
+/// hand's power grasp of the cereal box from a shoulder turned 60°, seed 3, found only a
+/// one-sided grasp from its second hang, farther out (and, tried, from the nearer one); searched
+/// again from the farther one it found one that pushes from every side, as seeds 1, 2 and 4–6
+/// had (docs/QUALITY.md, session 30). Where no such grasp exists (a claw under a ball's
+/// equator) the search takes half as long again before it returns its one-sided best.
+const MOST_RETRIES: u32 = 2;
 
 /// The default [`SearchParams::one_sided_patience`]: steps a search goes on with a valid best
 /// grasp that pushes from one side only, looking for one that pushes from every side.
@@ -372,7 +387,8 @@ impl<'a> GraspPlanner<'a> {
             since_improvement: 0,
             one_sided_steps: 0,
             first_hook: hook,
-            hung_again: false,
+            retries: 0,
+            retried_at_step: 0,
             best_found_at: None,
             axis: 0,
             stats: SearchStats::default(),
@@ -450,11 +466,12 @@ impl<'a> GraspPlanner<'a> {
         }
     }
 
-    /// Should the search hang the hand again? Once, under a rule that judges contacts, when it
-    /// has no valid grasp that pushes from every side and is about to stop, or has none valid
-    /// after [`SearchParams::one_sided_patience`] steps (at least the stop rule's).
-    fn should_hang_again(&self) -> bool {
-        if self.hung_again || !self.ctx.validity.judges_contacts() {
+    /// Should the search begin again? At most [`MOST_RETRIES`] times, under a rule that judges
+    /// contacts, when it has no valid grasp that pushes from every side and is about to stop,
+    /// or has none valid [`SearchParams::one_sided_patience`] steps (at least the stop rule's)
+    /// after it began, last began again or restarted.
+    fn should_retry(&self) -> bool {
+        if self.retries >= MOST_RETRIES || !self.ctx.validity.judges_contacts() {
             return false;
         }
         let every_side = self
@@ -468,18 +485,38 @@ impl<'a> GraspPlanner<'a> {
         let patience = self.params.one_sided_patience.max(stop_steps);
         !every_side
             && (self.status != PlannerStatus::Searching
-                || (self.best_valid.is_none() && self.stats.steps >= patience))
+                || (self.best_valid.is_none()
+                    && self.stats.steps - self.retried_at_step >= patience))
     }
 
-    /// Begins the search again with the hand hung differently, keeping the best valid pose
-    /// (with the context it was found in) for the new search to beat: from the middle of the
-    /// material nearest the hook ([`material_hook`]) when the hook lies outside the object
-    /// (a ring's hole); else [`SECOND_HANG_NEARER`] of the grasp center's height nearer the
-    /// palm, so that an object that sat between the curling fingertips sits against the palm,
-    /// or, when the object already pushed the open hand back that far,
+    /// Begins the search again, keeping the best valid pose (with the context it was found in)
+    /// for the new search to beat: the first time with the hand hung differently
+    /// ([`GraspPlanner::hang_again`]), the second from the same hang, the random angles going on
+    /// where they were, so that the search takes another path.
+    fn retry(&mut self) {
+        self.retries += 1;
+        self.retried_at_step = self.stats.steps;
+        let best = self.best_valid.take();
+        let found_at = best
+            .as_ref()
+            .map(|_| self.best_found_at.unwrap_or(self.ctx));
+        if self.retries == 1 {
+            self.hang_again(best.as_ref());
+        } else {
+            self.stats.searched_again += 1;
+        }
+        self.restart();
+        self.best_valid = best;
+        self.best_found_at = found_at;
+    }
+
+    /// Hangs the hand differently: from the middle of the material nearest the hook
+    /// ([`material_hook`]) when the hook lies outside the object (a ring's hole); else
+    /// [`SECOND_HANG_NEARER`] of the grasp center's height nearer the palm, so that an object
+    /// that sat between the curling fingertips sits against the palm, or, when the object
+    /// already pushed the open hand back that far (`best`, else the current pose),
     /// [`SECOND_HANG_FARTHER`] of it farther, so that its edge sits in the fingers.
-    fn hang_again(&mut self) {
-        self.hung_again = true;
+    fn hang_again(&mut self, best: Option<&Evaluation>) {
         let material = material_hook(
             self.ctx.object.collider().exact(),
             &self.ctx.hook,
@@ -492,22 +529,15 @@ impl<'a> GraspPlanner<'a> {
         });
         let height = self.ctx.movement.grasp_center().y;
         let nearer = SECOND_HANG_NEARER * height;
-        if material.is_none() && (!nearer.is_finite() || nearer <= 0.0) {
-            return;
-        }
-        let best = self.best_valid.take();
-        let found_at = best
-            .as_ref()
-            .map(|_| self.best_found_at.unwrap_or(self.ctx));
         if let Some((hook, start)) = material {
             self.ctx.hook = hook;
             self.ctx.start = start;
             self.reach_direction = horizontal(&(hook - self.ctx.shoulder), &self.params.up);
             self.stats.hook_moves += 1;
-        } else {
+        } else if nearer.is_finite() && nearer > 0.0 {
             // An object that pushed the open hand back off the hook by `nearer` or more already
             // sits against the palm: hung nearer, the hand would back off to where it was.
-            let pose = best.as_ref().unwrap_or(&self.current);
+            let pose = best.unwrap_or(&self.current);
             self.ctx.hang_shift = if pose.offset >= nearer {
                 -SECOND_HANG_FARTHER * height
             } else {
@@ -515,9 +545,6 @@ impl<'a> GraspPlanner<'a> {
             };
             self.stats.hung_again += 1;
         }
-        self.restart();
-        self.best_valid = best;
-        self.best_found_at = found_at;
     }
 
     fn collect_counters(&mut self) {
@@ -659,8 +686,8 @@ impl<'a> GraspPlanner<'a> {
             _ if self.stats.steps >= self.params.max_steps => PlannerStatus::StepLimit,
             _ => PlannerStatus::Searching,
         };
-        if self.stats.steps < self.params.max_steps && self.should_hang_again() {
-            self.hang_again();
+        if self.stats.steps < self.params.max_steps && self.should_retry() {
+            self.retry();
         }
     }
 
@@ -836,7 +863,8 @@ impl<'a> GraspPlanner<'a> {
             self.ctx.start = first_start;
             self.reach_direction = horizontal(&(self.first_hook - shoulder), &self.params.up);
             self.ctx.hang_shift = 0.0;
-            self.hung_again = false;
+            self.retries = 0;
+            self.retried_at_step = self.stats.steps;
             self.stats.restarts += 1;
             self.restart();
             return Ok(true);

@@ -1107,6 +1107,22 @@ fn a_thin_box_that_pushes_the_hand_back_is_grasped_hung_farther_out() {
 }
 
 #[test]
+fn a_search_whose_second_hang_finds_only_one_sided_grasps_searches_once_more() {
+    // The same box and shoulder, seed 3: from its second hang, farther out, the search found
+    // only a grasp whose contacts all push one way. Searched once more from that hang,
+    // along the random angles that follow, it finds one that pushes from every side.
+    let hand = common::hand("human");
+    let cereal = fixture("robosuite_cereal.stl", 1.0);
+    let turned = Rotation::from_axis_angle(&Vec3::z_axis(), 60f64.to_radians());
+    let shoulder = turned * Vec3::from(SHOULDERS[0]);
+    let r = search(&hand, &cereal, "power", shoulder.into(), 3);
+    assert!(r.valid, "{:?}", r.invalid_reason);
+    assert_eq!((r.stats.hung_again, r.stats.searched_again), (1, 1));
+    assert!(r.normal_cone_degrees >= 89.9, "{}", r.normal_cone_degrees);
+    assert!(r.stats.steps <= SearchParams::default().max_steps);
+}
+
+#[test]
 fn the_default_rule_walks_as_strict_does_and_keeps_one_sided_grasps_in_reserve() {
     // Under the default rule a one-sided wrap is valid but ranks, for where the search moves
     // next, among the invalid poses: the search takes `--validity strict`'s path and returns its
