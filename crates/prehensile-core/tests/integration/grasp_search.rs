@@ -1079,6 +1079,17 @@ fn a_small_object_the_first_hang_cages_is_grasped_hung_nearer_the_palm() {
     assert!(r.offset < r.terms.gdist, "{} {}", r.offset, r.terms.gdist);
 }
 
+/// The human hand's power grasp of the 3 cm thick cereal box scan, seed `seed`, from the first
+/// test shoulder turned 60° about the vertical.
+fn human_cereal_power_from_a_turned_shoulder(seed: u64) -> (HandModel, GraspResult) {
+    let hand = common::hand("human");
+    let cereal = fixture("robosuite_cereal.stl", 1.0);
+    let turned = Rotation::from_axis_angle(&Vec3::z_axis(), 60f64.to_radians());
+    let shoulder = turned * Vec3::from(SHOULDERS[0]);
+    let r = search(&hand, &cereal, "power", shoulder.into(), seed);
+    (hand, r)
+}
+
 #[test]
 fn a_thin_box_that_pushes_the_hand_back_is_grasped_hung_farther_out() {
     // The human hand's power grasp of the 3 cm thick cereal box scan from a shoulder turned 60°
@@ -1087,11 +1098,7 @@ fn a_thin_box_that_pushes_the_hand_back_is_grasped_hung_farther_out() {
     // nothing better turns up in 120 steps. Hung nearer, the hand would back off to the same
     // place; the second hang takes it farther out, the edge in the fingers, which close round it
     // from every side.
-    let hand = common::hand("human");
-    let cereal = fixture("robosuite_cereal.stl", 1.0);
-    let turned = Rotation::from_axis_angle(&Vec3::z_axis(), 60f64.to_radians());
-    let shoulder = turned * Vec3::from(SHOULDERS[0]);
-    let r = search(&hand, &cereal, "power", shoulder.into(), 1);
+    let (hand, r) = human_cereal_power_from_a_turned_shoulder(1);
     assert!(r.valid, "{:?}", r.invalid_reason);
     assert_eq!((r.stats.hung_again, r.stats.hook_moves), (1, 0));
     assert!(r.normal_cone_degrees >= 89.9, "{}", r.normal_cone_degrees);
@@ -1111,11 +1118,7 @@ fn a_search_whose_second_hang_finds_only_one_sided_grasps_searches_once_more() {
     // The same box and shoulder, seed 3: from its second hang, farther out, the search found
     // only a grasp whose contacts all push one way. Searched once more from that hang,
     // along the random angles that follow, it finds one that pushes from every side.
-    let hand = common::hand("human");
-    let cereal = fixture("robosuite_cereal.stl", 1.0);
-    let turned = Rotation::from_axis_angle(&Vec3::z_axis(), 60f64.to_radians());
-    let shoulder = turned * Vec3::from(SHOULDERS[0]);
-    let r = search(&hand, &cereal, "power", shoulder.into(), 3);
+    let (_, r) = human_cereal_power_from_a_turned_shoulder(3);
     assert!(r.valid, "{:?}", r.invalid_reason);
     assert_eq!((r.stats.hung_again, r.stats.searched_again), (1, 1));
     assert!(r.normal_cone_degrees >= 89.9, "{}", r.normal_cone_degrees);
