@@ -59,7 +59,8 @@ pub struct SearchParams {
     pub translate: TranslateMode,
     /// Quality weights; `None` picks Eq. 5.1 or 5.2 by movement.
     pub weights: Option<QualityWeights>,
-    /// Wrist range (§6.5.4).
+    /// Wrist range (§6.5.4), a right hand's: a left hand ([`HandModel::is_left`]) is searched
+    /// within its mirror image ([`WristRange::mirrored`]).
     pub wrist_range: WristRange,
     /// Start from the initial approximation (§5.6.2.1) rather than the starting position.
     pub initial_approximation: bool,
@@ -366,7 +367,11 @@ impl<'a> GraspPlanner<'a> {
             hang_shift: 0.0,
             shoulder,
             start,
-            wrist_range: params.wrist_range,
+            wrist_range: if hand.is_left() {
+                params.wrist_range.mirrored()
+            } else {
+                params.wrist_range
+            },
             weights,
             translate: params.translate,
             max_offset: diagonal + reach,

@@ -37,6 +37,18 @@ impl WristRange {
         }
     }
 
+    /// The range of the other hand: a mirror image across the hand frame's x (the hands' mirror,
+    /// `HandDescription::mirrored`) turns the rotations about z and y the other way and keeps
+    /// those about x, so a right hand's 145° one way about z is a left hand's 145° the other.
+    pub fn mirrored(&self) -> Self {
+        let negated = |[lo, hi]: [f64; 2]| [-hi, -lo];
+        Self {
+            z: negated(self.z),
+            x: self.x,
+            y: negated(self.y),
+        }
+    }
+
     /// Is `rotation` within range of `start` (both hook rotations)?
     pub fn contains(&self, start: &Rotation, rotation: &Rotation) -> bool {
         let relative = start.inverse() * rotation;
@@ -65,5 +77,33 @@ mod tests {
         assert!(!range.contains(&start, &about(Vec3::x(), -46.0)));
         assert!(!range.contains(&start, &about(Vec3::y(), 31.0)));
         assert!(WristRange::unlimited().contains(&start, &about(Vec3::y(), 170.0)));
+    }
+
+    #[test]
+    fn the_mirrored_range_holds_the_mirror_image_of_every_rotation_the_range_holds() {
+        // Mirroring across x conjugates a rotation by diag(−1, 1, 1).
+        let mirror = |r: &Rotation| {
+            let m = nalgebra::Matrix3::from_diagonal(&Vec3::new(-1.0, 1.0, 1.0));
+            Rotation::from_matrix(&(m * r.to_rotation_matrix().matrix() * m))
+        };
+        let (range, mirrored) = (WristRange::default(), WristRange::default().mirrored());
+        let start = Rotation::from_axis_angle(&Vec3::y_axis(), 0.4);
+        let mut rng = crate::search::random::SplitMix64::new(7);
+        let (mut inside, mut asymmetric) = (0, 0);
+        for _ in 0..2000 {
+            let axis = Vec3::new(
+                rng.uniform(-1.0, 1.0),
+                rng.uniform(-1.0, 1.0),
+                rng.uniform(-1.0, 1.0),
+            );
+            let turn = start * Rotation::from_scaled_axis(axis * 2.0);
+            let held = range.contains(&start, &turn);
+            assert_eq!(held, mirrored.contains(&mirror(&start), &mirror(&turn)));
+            inside += usize::from(held);
+            asymmetric += usize::from(held != range.contains(&mirror(&start), &mirror(&turn)));
+        }
+        // Both outcomes occur, and the unmirrored range would judge some mirror images wrongly.
+        assert!(inside > 100 && inside < 1900, "{inside}");
+        assert!(asymmetric > 50, "{asymmetric}");
     }
 }
