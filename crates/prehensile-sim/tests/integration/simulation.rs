@@ -615,6 +615,24 @@ fn the_shadow_hand_holds_sphere_box_and_cylinder_once_each_grasp_is_checked() {
 }
 
 #[test]
+fn the_webxr_right_hand_holds_the_sphere_its_first_hang_found() {
+    // Its power search of the sphere finds only one-sided grasps, from every hang. Hung
+    // farther out a second time, it found a fingertip grasp that ranked above the first
+    // hang's; the run dropped the sphere (it fell 5.5 m). A search begun again now keeps the
+    // first hang's one-sided grasp unless it finds one that pushes from every side.
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let right = dir.join("../../assets/hands/webxr_generic_hand/right.glb");
+    let options = Options {
+        hand: prehensile_formats::load_hand(&right).unwrap(),
+        ..options(&["sphere"], 0.5)
+    };
+    let (report, _) = scenarios::run(Scenario::Grasp, &options, &mut |_, _| {}).unwrap();
+    let case = &report.cases[0];
+    assert_eq!(case.held, Some(true), "{case:?}");
+    assert!(case.metrics["object_rise_m"] > 0.08, "{case:?}");
+}
+
+#[test]
 fn the_candidate_shoulders_turn_both_ways_in_widening_steps() {
     let turns: Vec<f64> = (0..5).map(scenarios::shoulder_turn_degrees).collect();
     assert_eq!(turns, [0.0, 30.0, -30.0, 60.0, -60.0]);
