@@ -339,6 +339,15 @@ fn options(objects: &[&str], alpha: f64) -> Options {
     }
 }
 
+/// [`options`] (grip 0.5) for the hand in the repository file `path`.
+fn hand_file_options(path: &str, objects: &[&str]) -> Options {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    Options {
+        hand: prehensile_formats::load_hand(&dir.join("../..").join(path)).unwrap(),
+        ..options(objects, 0.5)
+    }
+}
+
 #[test]
 fn the_hand_lifts_a_light_sphere_and_carries_it() {
     let (report, _) =
@@ -521,12 +530,7 @@ fn the_grasp_scenario_plans_with_the_worlds_friction_and_the_simulation_judges_t
     // the hand lifts the ball in both. In a world of 0.2 the plan at 0.1 is in force closure
     // on paper, but the hand's squeeze does not keep the ball: the simulation, not the plan,
     // says whether it holds.
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let shadow = dir.join("../../assets/hands/shadow_hand/reach.xml");
-    let options = Options {
-        hand: prehensile_formats::load_hand(&shadow).unwrap(),
-        ..options(&["sphere"], 0.5)
-    };
+    let options = hand_file_options("assets/hands/shadow_hand/reach.xml", &["sphere"]);
     let world = |friction: f64| Options {
         settings: Settings {
             friction,
@@ -576,13 +580,8 @@ fn the_shadow_hand_holds_sphere_box_and_cylinder_once_each_grasp_is_checked() {
     // seats the box 30 mm toward the palm in the first second after let-go, and the run's slip
     // was 32.3 mm (30 allowed). Each grasp is now held against gravity in the simulation before
     // its run, and the next shoulder's grasp is searched when it does not hold.
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let shadow = dir.join("../../assets/hands/shadow_hand/reach.xml");
     let objects = ["sphere", "box", "cylinder"];
-    let options = Options {
-        hand: prehensile_formats::load_hand(&shadow).unwrap(),
-        ..options(&objects, 0.5)
-    };
+    let options = hand_file_options("assets/hands/shadow_hand/reach.xml", &objects);
     let (report, _) = scenarios::run(Scenario::Grasp, &options, &mut |_, _| {}).unwrap();
     for (case, name) in report.cases.iter().zip(objects) {
         assert_eq!(case.label, name);
@@ -620,12 +619,7 @@ fn the_webxr_right_hand_holds_the_sphere_its_first_hang_found() {
     // farther out a second time, it found a fingertip grasp that ranked above the first
     // hang's; the run dropped the sphere (it fell 5.5 m). A search begun again now keeps the
     // first hang's one-sided grasp unless it finds one that pushes from every side.
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let right = dir.join("../../assets/hands/webxr_generic_hand/right.glb");
-    let options = Options {
-        hand: prehensile_formats::load_hand(&right).unwrap(),
-        ..options(&["sphere"], 0.5)
-    };
+    let options = hand_file_options("assets/hands/webxr_generic_hand/right.glb", &["sphere"]);
     let (report, _) = scenarios::run(Scenario::Grasp, &options, &mut |_, _| {}).unwrap();
     let case = &report.cases[0];
     assert_eq!(case.held, Some(true), "{case:?}");
