@@ -460,10 +460,11 @@ impl<'a> GraspPlanner<'a> {
 
     fn consider_best(&mut self, e: &Evaluation) {
         // A search begun again looks for a grasp that pushes from every side: a one-sided one
-        // it finds does not displace the first hang's (docs/QUALITY.md, session 30).
+        // it finds does not displace one found before it began again (docs/QUALITY.md,
+        // session 30), but may displace another it found itself.
         let may_replace = |b: &Evaluation| {
             self.ctx.rank(e) > self.ctx.rank(b)
-                && (self.retries == 0 || self.ctx.pushes_from_every_side(e))
+                && (self.best_found_at.is_none() || self.ctx.pushes_from_every_side(e))
         };
         if e.validity.is_ok() && self.best_valid.as_ref().is_none_or(may_replace) {
             self.best_valid = Some(e.clone());
@@ -498,9 +499,8 @@ impl<'a> GraspPlanner<'a> {
     /// Begins the search again, keeping the best valid pose (with the context it was found in)
     /// for the new search to beat — by a grasp that pushes from every side, or by any valid one
     /// when none was found before ([`GraspPlanner::consider_best`]): the first time with the
-    /// hand hung differently
-    /// ([`GraspPlanner::hang_again`]), the second from the same hang, the random angles going on
-    /// where they were, so that the search takes another path.
+    /// hand hung differently ([`GraspPlanner::hang_again`]), the second from the same hang, the
+    /// random angles going on where they were, so that the search takes another path.
     fn retry(&mut self) {
         self.retries += 1;
         self.retried_at_step = self.stats.steps;
