@@ -7,7 +7,10 @@ time; today's fills it as the search reads it, inside) (docs/QUALITY.md, session
 
     git worktree add ../filed 6eb4c05 && (cd ../filed && cargo build --release -p prehensile-cli)
     python3 tools/benchmark/filing_day_search_time.py ../filed/target/release/prehensile \\
-        target/release/prehensile [ROUNDS]
+        target/release/prehensile [ROUNDS] [SHADOW_MOVEMENT]
+
+SHADOW_MOVEMENT is the Shadow hand's movement today (default power; `close` compares the
+filing day's movement with itself).
 
 The old CLI has no `--threads` and searched on one thread; today's is given `--threads 1`.
 Standard library only.
@@ -25,7 +28,7 @@ sys.path.insert(0, str(ROOT / "tools/quality"))
 from grasp_survey import OBJECTS  # noqa: E402
 
 SHADOW = str(ROOT / "assets/hands/shadow_hand/reach.xml")
-# (hand, movement on the filing day, movement today)
+# (hand, movement on the filing day, movement today); main() may change the Shadow hand's today
 CASES = [("human", "power", "power"), (SHADOW, "close", "power")]
 SEEDS = [1, 2, 3]
 
@@ -51,7 +54,10 @@ def search(binary, hand, movement, obj, seed, today):
 def main():
     old, new = sys.argv[1], sys.argv[2]
     rounds = int(sys.argv[3]) if len(sys.argv) > 3 else 2
-    for hand, then, now in CASES:
+    cases = CASES
+    if len(sys.argv) > 4:
+        cases = [(hand, then, now if hand != SHADOW else sys.argv[4]) for hand, then, now in CASES]
+    for hand, then, now in cases:
         print(f"{pathlib.Path(hand).name}: {then} then, {now} now (search ms, whole run ms)")
         every = {False: [], True: []}
         for obj in OBJECTS:
