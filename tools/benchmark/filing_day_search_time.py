@@ -13,7 +13,8 @@ SHADOW_MOVEMENT is the Shadow hand's movement today (default power; `close` comp
 filing day's movement with itself).
 
 The old CLI has no `--threads` and searched on one thread; today's is given `--threads 1`.
-Standard library only.
+Needs numpy and scipy (the object list comes from tools/quality/grasp_survey.py, which imports
+them).
 """
 import json
 import pathlib
@@ -28,8 +29,6 @@ sys.path.insert(0, str(ROOT / "tools/quality"))
 from grasp_survey import OBJECTS  # noqa: E402
 
 SHADOW = str(ROOT / "assets/hands/shadow_hand/reach.xml")
-# (hand, movement on the filing day, movement today); main() may change the Shadow hand's today
-CASES = [("human", "power", "power"), (SHADOW, "close", "power")]
 SEEDS = [1, 2, 3]
 
 
@@ -54,9 +53,9 @@ def search(binary, hand, movement, obj, seed, today):
 def main():
     old, new = sys.argv[1], sys.argv[2]
     rounds = int(sys.argv[3]) if len(sys.argv) > 3 else 2
-    cases = CASES
-    if len(sys.argv) > 4:
-        cases = [(hand, then, now if hand != SHADOW else sys.argv[4]) for hand, then, now in CASES]
+    shadow_now = sys.argv[4] if len(sys.argv) > 4 else "power"
+    # (hand, movement on the filing day, movement today)
+    cases = [("human", "power", "power"), (SHADOW, "close", shadow_now)]
     for hand, then, now in cases:
         print(f"{pathlib.Path(hand).name}: {then} then, {now} now (search ms, whole run ms)")
         every = {False: [], True: []}
