@@ -577,7 +577,8 @@ fn hooked(object: Arc<ObjectModel>, hook: Option<[f64; 3]>) -> PyResult<Arc<Obje
 /// Searches a grasp of `object` by `hand` (each a model, a built-in name or a file), exactly as
 /// `prehensile grasp` does; with `hold=True` also runs the rapier hold test.
 /// `one_sided_patience` is `--one-sided-patience`: steps to go on looking past a grasp whose
-/// contacts all push from one side.
+/// contacts all push from one side. `budget_ms` is `--budget-ms`: the whole search's time, every
+/// movement of `auto` within it.
 #[pyfunction]
 #[pyo3(signature = (hand, object, movement = "auto", *, shoulder = None, hook = None, up = "z",
     seed = 1, weights = None, friction = 0.5, validity = "holds", budget_ms = None, hold = false,

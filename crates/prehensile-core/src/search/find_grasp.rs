@@ -2,7 +2,7 @@
 //! the Python package): which movements `auto` tries, a planner per movement, and which result
 //! wins.
 
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use crate::hand::HandModel;
 use crate::math::Point3;
@@ -32,7 +32,11 @@ pub struct GraspRequest {
     pub shoulder: Point3,
     /// Search parameters (the seed among them).
     pub params: SearchParams,
-    /// Wall-time budget per movement; `None` runs each search to its stop rule, which makes the
+    /// Wall-time budget of the whole request, every movement's search within it (side by side
+    /// on threads they run at once; in turn they take a step each until it is spent). No search
+    /// begins a step that its last step's duration says would end past it, and each takes one
+    /// step at least, so the budget is overrun by at most about one step. `None` runs each
+    /// search to its stop rule, which makes the
     /// result depend on the inputs and the seed only.
     pub budget: Option<Duration>,
 }
@@ -93,31 +97,24 @@ pub const AUTO_PATIENCE: u32 = 100;
 /// Searches every movement the request names and returns the best result. `sink` hears each
 /// movement's start and every step. With several movements and `params.threads` above 1 the
 /// movements are searched side by side, each on a thread of its own (the sink then hears the
-/// searches interleaved); on one thread they take a step each in turn. Without a budget, a
-/// search with no valid pose after [`AUTO_PATIENCE`] steps stops once another movement's search
-/// has ended with a valid grasp within as many steps; each search judges that with the others at
-/// the same step, so the result is the same either way.
+/// searches interleaved); on one thread they take a step each in turn. A search with no valid
+/// pose after [`AUTO_PATIENCE`] steps stops once another movement's search has ended with a valid
+/// grasp within as many steps; each search judges that with the others at the same step, so
+/// without a budget the result is the same either way. A budget ([`GraspRequest::budget`]) is
+/// the whole request's: every search stops when it is spent, and advances by slices instead
+/// of steps, to stop within it.
 pub fn find_grasp(
     hand: &HandModel,
     object: &ObjectModel,
     request: &GraspRequest,
     sink: &mut dyn SearchSink,
 ) -> Result<GraspResult, SearchError> {
+    let deadline = request.budget.map(|budget| Instant::now() + budget);
     let movements = movements_to_try(hand, &request.movement)?;
     let planners = if request.params.threads > 1 && movements.len() > 1 {
-        search_side_by_side(hand, object, request, &movements, sink)?
-    } else if let Some(budget) = request.budget {
-        movements
-            .iter()
-            .map(|movement| {
-                sink.movement_started(movement.name());
-                let mut planner = planner(hand, object, movement, request)?;
-                planner.run_for_into(budget, sink);
-                Ok(planner)
-            })
-            .collect::<Result<Vec<_>, SearchError>>()?
+        search_side_by_side(hand, object, request, &movements, deadline, sink)?
     } else {
-        search_in_turn(hand, object, request, &movements, sink)?
+        search_in_turn(hand, object, request, &movements, deadline, sink)?
     };
     Ok(best_result(hand, &planners, request.params.threads))
 }
@@ -173,13 +170,36 @@ fn out_of_patience(progress: &[Progress], me: usize) -> bool {
             .any(|(j, p)| j != me && p.ended == Some(true) && p.steps <= steps)
 }
 
-/// The movements' searches a step each in turn, on this thread, to their stop rules or the
-/// patience rule.
+/// Would a piece of work as long as the `last` one (zero before the first) end past
+/// `deadline`? The first is always done.
+fn out_of_time(deadline: Option<Instant>, last: Duration) -> bool {
+    deadline.is_some_and(|deadline| !last.is_zero() && Instant::now() + last > deadline)
+}
+
+/// Advances `planner` by a step, or with a `deadline` by a [slice](GraspPlanner::slice) (a
+/// step's first evaluation, its restart's initial approximation above all, takes much longer
+/// than a frame's budget); returns whether it is still searching and how long that took.
+fn advance(
+    planner: &mut GraspPlanner,
+    deadline: Option<Instant>,
+    sink: &mut dyn SearchSink,
+) -> (bool, Duration) {
+    let began = Instant::now();
+    let status = match deadline {
+        Some(_) => planner.slice_into(sink),
+        None => planner.step_into(sink),
+    };
+    (status == PlannerStatus::Searching, began.elapsed())
+}
+
+/// The movements' searches a step each in turn, on this thread, to their stop rules, the
+/// patience rule or the `deadline`.
 fn search_in_turn<'a>(
     hand: &'a HandModel,
     object: &'a ObjectModel,
     request: &GraspRequest,
     movements: &[&'a GraspMovement],
+    deadline: Option<Instant>,
     sink: &mut dyn SearchSink,
 ) -> Result<Vec<GraspPlanner<'a>>, SearchError> {
     let mut planners = movements
@@ -187,17 +207,23 @@ fn search_in_turn<'a>(
         .map(|movement| planner(hand, object, movement, request))
         .collect::<Result<Vec<_>, _>>()?;
     let mut progress = vec![Progress::default(); planners.len()];
+    let mut last_step = vec![Duration::ZERO; planners.len()];
     let mut last = None;
     while progress.iter().any(|p| p.ended.is_none()) {
         for (k, planner) in planners.iter_mut().enumerate() {
             if progress[k].ended.is_some() {
                 continue;
             }
+            if out_of_time(deadline, last_step[k]) {
+                progress[k].record(planner, false);
+                continue;
+            }
             if last != Some(k) {
                 sink.movement_started(movements[k].name());
                 last = Some(k);
             }
-            let searching = planner.step_into(sink) == PlannerStatus::Searching;
+            let searching;
+            (searching, last_step[k]) = advance(planner, deadline, sink);
             progress[k].record(planner, searching);
         }
         // Judged after the round, every search at the same step (or ended).
@@ -341,6 +367,7 @@ fn search_side_by_side<'a>(
     object: &'a ObjectModel,
     request: &GraspRequest,
     movements: &[&'a GraspMovement],
+    deadline: Option<Instant>,
     sink: &mut dyn SearchSink,
 ) -> Result<Vec<GraspPlanner<'a>>, SearchError> {
     let (events, received) = std::sync::mpsc::channel();
@@ -361,17 +388,17 @@ fn search_side_by_side<'a>(
                 scope.spawn(move || {
                     let _ends = EndsSearch(race, k);
                     let mut planner = planner(hand, object, movement, request)?;
-                    match request.budget {
-                        Some(budget) => {
-                            planner.run_for_into(budget, &mut forward);
+                    let mut last_step = Duration::ZERO;
+                    loop {
+                        if out_of_time(deadline, last_step) {
+                            race.lock()[k].record(&planner, false);
+                            break;
                         }
-                        None => loop {
-                            let searching =
-                                planner.step_into(&mut forward) == PlannerStatus::Searching;
-                            if !race.after_step(k, &planner, searching) {
-                                break;
-                            }
-                        },
+                        let searching;
+                        (searching, last_step) = advance(&mut planner, deadline, &mut forward);
+                        if !race.after_step(k, &planner, searching) {
+                            break;
+                        }
                     }
                     Ok(planner)
                 })

@@ -353,34 +353,39 @@ fn same_seed_same_grasp_and_threads_do_not_change_it() {
     assert_eq!(one, run(3, 5));
 }
 
+/// What a request's sink hears: the movements started (each once, in order), how many times the
+/// events switched movement, and each movement's steps (checked to come one by one, in order).
+#[derive(Default)]
+struct Heard {
+    started: Vec<String>,
+    switches: u32,
+    steps: std::collections::HashMap<String, u32>,
+    movement: String,
+}
+impl SearchSink for Heard {
+    fn movement_started(&mut self, name: &str) {
+        self.switches += 1;
+        self.movement = name.to_string();
+        if !self.started.iter().any(|s| s == name) {
+            self.started.push(name.to_string());
+        }
+    }
+    fn step(&mut self, stats: &SearchStats, _current: &Evaluation) {
+        let last = self.steps.entry(self.movement.clone()).or_default();
+        assert_eq!(
+            stats.steps,
+            *last + 1,
+            "{}: a step lost or out of order",
+            self.movement
+        );
+        *last = stats.steps;
+    }
+}
+
 #[test]
 fn movements_searched_side_by_side_give_the_same_result_and_every_event() {
     // `auto` on several threads searches the human hand's movements each on a thread of its
     // own, passing their events on to the caller's sink; on one thread a step each in turn.
-    #[derive(Default)]
-    struct Heard {
-        started: Vec<String>,
-        steps: std::collections::HashMap<String, u32>,
-        movement: String,
-    }
-    impl SearchSink for Heard {
-        fn movement_started(&mut self, name: &str) {
-            self.movement = name.to_string();
-            if !self.started.iter().any(|s| s == name) {
-                self.started.push(name.to_string());
-            }
-        }
-        fn step(&mut self, stats: &SearchStats, _current: &Evaluation) {
-            let last = self.steps.entry(self.movement.clone()).or_default();
-            assert_eq!(
-                stats.steps,
-                *last + 1,
-                "{}: a step lost or out of order",
-                self.movement
-            );
-            *last = stats.steps;
-        }
-    }
     let hand = common::hand("human");
     let object = common::object("sphere");
     let run = |threads: usize| {
@@ -435,6 +440,60 @@ fn movements_searched_side_by_side_give_the_same_result_and_every_event() {
     )
     .unwrap();
     assert!(!precision_alone.valid && precision_alone.stats.steps > patience);
+}
+
+#[test]
+fn a_budget_is_the_whole_requests_and_keeps_the_patience_rule() {
+    // A budget used to be each movement's: on one thread `auto`'s three movements of the human
+    // hand searched one after another, each for the whole budget, and none stopped for the
+    // patience rule. Now the movements share it, in turn or side by side.
+    let hand = common::hand("human");
+    let object = common::object("sphere");
+    let run = |threads: usize, budget: Duration| {
+        let request = prehensile_core::search::GraspRequest {
+            movement: prehensile_core::search::AUTO_MOVEMENT.into(),
+            shoulder: Point3::new(-0.35, -0.2, 0.35),
+            params: SearchParams {
+                threads,
+                ..Default::default()
+            },
+            budget: Some(budget),
+        };
+        let mut heard = Heard::default();
+        let mut result =
+            prehensile_core::search::find_grasp(&hand, &object, &request, &mut heard).unwrap();
+        result.stats.seconds = 0.0;
+        (result, heard)
+    };
+    let unbudgeted = prehensile_core::search::find_grasp(
+        &hand,
+        &object,
+        &prehensile_core::search::GraspRequest {
+            movement: prehensile_core::search::AUTO_MOVEMENT.into(),
+            shoulder: Point3::new(-0.35, -0.2, 0.35),
+            params: SearchParams::default(),
+            budget: None,
+        },
+        &mut (),
+    )
+    .map(|mut r| {
+        r.stats.seconds = 0.0;
+        r
+    })
+    .unwrap();
+    // A budget far beyond the search: the same result, searched in slices, and the precision
+    // search still stops at the patience rule, on one thread and on two.
+    let patience = prehensile_core::search::AUTO_PATIENCE;
+    for threads in [1, 2] {
+        let (result, heard) = run(threads, Duration::from_secs(3600));
+        assert_eq!(result, unbudgeted, "{threads} thread(s)");
+        assert_eq!(heard.steps["precision"], patience, "{:?}", heard.steps);
+    }
+    // With a budget on one thread the movements take turns (the sink hears the events switch
+    // back and forth), not each the whole budget one after another.
+    let (_, heard) = run(1, Duration::from_millis(300));
+    assert_eq!(heard.started.len(), 3, "{:?}", heard.started);
+    assert!(heard.switches > 3, "switched {} times", heard.switches);
 }
 
 #[test]
