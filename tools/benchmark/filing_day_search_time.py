@@ -7,15 +7,19 @@ time; today's fills it as the search reads it, inside) (docs/QUALITY.md, session
 
     git worktree add ../filed 6eb4c05 && (cd ../filed && cargo build --release -p prehensile-cli)
     python3 tools/benchmark/filing_day_search_time.py ../filed/target/release/prehensile \\
-        target/release/prehensile [ROUNDS] [SHADOW_MOVEMENT]
+        target/release/prehensile [ROUNDS] [SHADOW_MOVEMENT] [--thesis-rules]
 
 SHADOW_MOVEMENT is the Shadow hand's movement today (default power; `close` compares the
-filing day's movement with itself).
+filing day's movement with itself). `--thesis-rules` searches today's build under the thesis's
+validity rules (`--validity thesis`), the filing day's: with `close` for the Shadow hand, both
+builds then do the same task, and what is left of the ratio is what the search's machinery
+costs (docs/QUALITY.md, session 33).
 
 The old CLI has no `--threads` and searched on one thread; today's is given `--threads 1`.
 Needs numpy and scipy (the object list comes from tools/quality/grasp_survey.py, which imports
 them).
 """
+import argparse
 import json
 import pathlib
 import statistics
@@ -32,14 +36,14 @@ SHADOW = str(ROOT / "assets/hands/shadow_hand/reach.xml")
 SEEDS = [1, 2, 3]
 
 
-def search(binary, hand, movement, obj, seed, today):
+def search(binary, hand, movement, obj, seed, today, extra):
     """(milliseconds of search, valid, milliseconds of the whole run) of one grasp, or None if it
-    wrote no result."""
+    wrote no result. `extra` are today's further arguments."""
     with tempfile.NamedTemporaryFile(suffix=".json") as out:
         args = [binary, "grasp", "--hand", hand, "--object", obj, "--movement", movement,
                 "--seed", str(seed), "--out", out.name]
         if today:
-            args += ["--threads", "1"]
+            args += ["--threads", "1", *extra]
         began = time.perf_counter()
         subprocess.run(args, capture_output=True, text=True, cwd=ROOT)
         wall = (time.perf_counter() - began) * 1000
@@ -51,9 +55,17 @@ def search(binary, hand, movement, obj, seed, today):
 
 
 def main():
-    old, new = sys.argv[1], sys.argv[2]
-    rounds = int(sys.argv[3]) if len(sys.argv) > 3 else 2
-    shadow_now = sys.argv[4] if len(sys.argv) > 4 else "power"
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("old", help="the filing day's CLI (6eb4c05)")
+    parser.add_argument("new", help="today's CLI")
+    parser.add_argument("rounds", nargs="?", type=int, default=2, help="runs of every seed")
+    parser.add_argument("shadow_now", nargs="?", default="power",
+                        help="the Shadow hand's movement today")
+    parser.add_argument("--thesis-rules", action="store_true",
+                        help="search today's build under the thesis's validity rules")
+    options = parser.parse_args()
+    old, new, rounds, shadow_now = options.old, options.new, options.rounds, options.shadow_now
+    extra = ["--validity", "thesis"] if options.thesis_rules else []
     # (hand, movement on the filing day, movement today)
     cases = [("human", "power", "power"), (SHADOW, "close", shadow_now)]
     for hand, then, now in cases:
@@ -64,7 +76,7 @@ def main():
             for _ in range(rounds):
                 for seed in SEEDS:
                     for today, binary, movement in ((False, old, then), (True, new, now)):
-                        found = search(binary, hand, movement, obj, seed, today)
+                        found = search(binary, hand, movement, obj, seed, today, extra)
                         if found:
                             runs[today].append(found)
             for today in (False, True):
