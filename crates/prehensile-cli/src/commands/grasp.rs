@@ -6,8 +6,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 use prehensile_core::math::{Point3, Vec3};
 use prehensile_core::search::default_shoulder;
 use prehensile_core::search::{
-    find_grasp, Evaluation, GraspRequest, GraspResult, QualityWeights, SearchParams, SearchSink,
-    SearchStats,
+    find_grasp, Evaluation, GraspRequest, GraspResult, PlannerStatus, QualityWeights, SearchParams,
+    SearchSink, SearchStats,
 };
 use prehensile_core::stability::ContactModel;
 use prehensile_core::{HandModel, ObjectModel};
@@ -242,6 +242,7 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
             result.invalid_reason.as_deref().unwrap_or("unknown")
         )
     };
+
     eprintln!(
         "{} on {}: {} ({}), fingers touching: {}, search {:.1} ms (reading and setting up hand and object: {:.1} ms)",
         hand.name(),
@@ -256,6 +257,13 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
         took.as_secs_f64() * 1e3,
         setup_ms
     );
+    // A search the budget stopped says so: a larger budget may find a (better) grasp.
+    if let (PlannerStatus::Searching, Some(ms)) = (result.status, args.budget_ms) {
+        eprintln!(
+            "--budget-ms {ms} ended the search after {} step(s), before its stop rule",
+            result.stats.steps
+        );
+    }
     if let Some(h) = &hold {
         let held: Vec<&str> = h
             .directions

@@ -93,6 +93,35 @@ fn bad_files_exit_two_with_a_reason() {
 }
 
 #[test]
+fn a_search_the_budget_stopped_says_so() {
+    // A microsecond: every movement takes its one slice and stops, still searching.
+    let json = scratch("budget_stopped.json");
+    let out = prehensile(&[
+        "grasp",
+        "--object",
+        "torus",
+        "--threads",
+        "1",
+        "--budget-ms",
+        "0.001",
+        "--out",
+        json.to_str().unwrap(),
+    ]);
+    let err = text(&out.stderr);
+    assert!(matches!(out.status.code(), Some(0 | 1)), "{err}");
+    assert!(
+        err.contains("--budget-ms 0.001 ended the search after"),
+        "{err}"
+    );
+    let result: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(result["status"], "searching", "{result}");
+    // Run to its stop rule, it says nothing of a budget.
+    let out = prehensile(&["grasp", "--object", "box", "--budget-ms", "60000"]);
+    assert!(!text(&out.stderr).contains("ended the search"));
+}
+
+#[test]
 fn no_valid_grasp_exits_one_and_names_the_test_that_failed() {
     // A ball 8 mm across: the human power search closes two fingers on it at most.
     let json = scratch("small_ball_power.json");
