@@ -306,7 +306,9 @@ pub struct GraspArgs {
     /// hand's torus: 10 ms instead of 84).
     #[arg(long, default_value_t = prehensile_core::search::ONE_SIDED_PATIENCE)]
     pub one_sided_patience: u32,
-    /// Stop the search after about this many milliseconds, every movement of `auto` within them; a search may overrun by one slice of its work, a few milliseconds (default: run until converged). docs/PERFORMANCE.md shows what 5 to 40 ms buy.
+    /// Stop the search after about this many milliseconds, every movement of `auto` within
+    /// them; a search may overrun by one slice of its work, a few milliseconds (default: run
+    /// until converged). docs/PERFORMANCE.md shows what 5 to 40 ms buy.
     #[arg(long)]
     pub budget_ms: Option<f64>,
     /// Also test the grasp in the rapier world: the hand squeezes (grip strength 0.5), then

@@ -242,7 +242,6 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
             result.invalid_reason.as_deref().unwrap_or("unknown")
         )
     };
-
     eprintln!(
         "{} on {}: {} ({}), fingers touching: {}, search {:.1} ms (reading and setting up hand and object: {:.1} ms)",
         hand.name(),

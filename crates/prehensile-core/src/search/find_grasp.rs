@@ -33,11 +33,11 @@ pub struct GraspRequest {
     /// Search parameters (the seed among them).
     pub params: SearchParams,
     /// Wall-time budget of the whole request, every movement's search within it (side by side
-    /// on threads they run at once; in turn they take a step each until it is spent). No search
-    /// begins a step that its last step's duration says would end past it, and each takes one
-    /// step at least, so the budget is overrun by at most about one step. `None` runs each
-    /// search to its stop rule, which makes the
-    /// result depend on the inputs and the seed only.
+    /// on threads they run at once; in turn they take a [slice](GraspPlanner::slice) of work
+    /// each until it is spent). No search begins a slice that its last slice's duration says
+    /// would end past it, and each takes one at least, so the budget is overrun by about one
+    /// slice at most. `None` runs each search to its stop rule, which makes the result depend
+    /// on the inputs and the seed only.
     pub budget: Option<Duration>,
 }
 
@@ -192,8 +192,8 @@ fn advance(
     (status == PlannerStatus::Searching, began.elapsed())
 }
 
-/// The movements' searches a step each in turn, on this thread, to their stop rules, the
-/// patience rule or the `deadline`.
+/// The movements' searches a step (with a `deadline`, a slice) each in turn, on this thread,
+/// to their stop rules, the patience rule or the `deadline`.
 fn search_in_turn<'a>(
     hand: &'a HandModel,
     object: &'a ObjectModel,
