@@ -382,30 +382,34 @@ impl SearchSink for Heard {
     }
 }
 
+/// The human hand's `auto` request on the built-in sphere on `threads` threads within `budget`,
+/// and what its sink heard; the result's time zeroed, so that results compare.
+fn auto_on_sphere(threads: usize, budget: Option<Duration>) -> (GraspResult, Heard) {
+    let request = prehensile_core::search::GraspRequest {
+        movement: prehensile_core::search::AUTO_MOVEMENT.into(),
+        shoulder: Point3::new(-0.35, -0.2, 0.35),
+        params: SearchParams {
+            threads,
+            ..Default::default()
+        },
+        budget,
+    };
+    let (hand, object) = (common::hand("human"), common::object("sphere"));
+    let mut heard = Heard::default();
+    let mut result =
+        prehensile_core::search::find_grasp(&hand, &object, &request, &mut heard).unwrap();
+    result.stats.seconds = 0.0;
+    (result, heard)
+}
+
 #[test]
 fn movements_searched_side_by_side_give_the_same_result_and_every_event() {
     // `auto` on several threads searches the human hand's movements each on a thread of its
     // own, passing their events on to the caller's sink; on one thread a step each in turn.
     let hand = common::hand("human");
     let object = common::object("sphere");
-    let run = |threads: usize| {
-        let request = prehensile_core::search::GraspRequest {
-            movement: prehensile_core::search::AUTO_MOVEMENT.into(),
-            shoulder: Point3::new(-0.35, -0.2, 0.35),
-            params: SearchParams {
-                threads,
-                ..Default::default()
-            },
-            budget: None,
-        };
-        let mut heard = Heard::default();
-        let mut result =
-            prehensile_core::search::find_grasp(&hand, &object, &request, &mut heard).unwrap();
-        result.stats.seconds = 0.0;
-        (result, heard)
-    };
-    let (one, heard_one) = run(1);
-    let (side_by_side, heard) = run(2);
+    let (one, heard_one) = auto_on_sphere(1, None);
+    let (side_by_side, heard) = auto_on_sphere(2, None);
     assert_eq!(one, side_by_side);
     let movements: Vec<&str> =
         prehensile_core::search::movements_to_try(&hand, prehensile_core::search::AUTO_MOVEMENT)
@@ -447,51 +451,18 @@ fn a_budget_is_the_whole_requests_and_keeps_the_patience_rule() {
     // A budget used to be each movement's: on one thread `auto`'s three movements of the human
     // hand searched one after another, each for the whole budget, and none stopped for the
     // patience rule. Now the movements share it, in turn or side by side.
-    let hand = common::hand("human");
-    let object = common::object("sphere");
-    let run = |threads: usize, budget: Duration| {
-        let request = prehensile_core::search::GraspRequest {
-            movement: prehensile_core::search::AUTO_MOVEMENT.into(),
-            shoulder: Point3::new(-0.35, -0.2, 0.35),
-            params: SearchParams {
-                threads,
-                ..Default::default()
-            },
-            budget: Some(budget),
-        };
-        let mut heard = Heard::default();
-        let mut result =
-            prehensile_core::search::find_grasp(&hand, &object, &request, &mut heard).unwrap();
-        result.stats.seconds = 0.0;
-        (result, heard)
-    };
-    let unbudgeted = prehensile_core::search::find_grasp(
-        &hand,
-        &object,
-        &prehensile_core::search::GraspRequest {
-            movement: prehensile_core::search::AUTO_MOVEMENT.into(),
-            shoulder: Point3::new(-0.35, -0.2, 0.35),
-            params: SearchParams::default(),
-            budget: None,
-        },
-        &mut (),
-    )
-    .map(|mut r| {
-        r.stats.seconds = 0.0;
-        r
-    })
-    .unwrap();
+    let (unbudgeted, _) = auto_on_sphere(SearchParams::default().threads, None);
     // A budget far beyond the search: the same result, searched in slices, and the precision
     // search still stops at the patience rule, on one thread and on two.
     let patience = prehensile_core::search::AUTO_PATIENCE;
     for threads in [1, 2] {
-        let (result, heard) = run(threads, Duration::from_secs(3600));
+        let (result, heard) = auto_on_sphere(threads, Some(Duration::from_secs(3600)));
         assert_eq!(result, unbudgeted, "{threads} thread(s)");
         assert_eq!(heard.steps["precision"], patience, "{:?}", heard.steps);
     }
     // With a budget on one thread the movements take turns (the sink hears the events switch
     // back and forth), not each the whole budget one after another.
-    let (_, heard) = run(1, Duration::from_millis(300));
+    let (_, heard) = auto_on_sphere(1, Some(Duration::from_millis(300)));
     assert_eq!(heard.started.len(), 3, "{:?}", heard.started);
     assert!(heard.switches > 3, "switched {} times", heard.switches);
 }
