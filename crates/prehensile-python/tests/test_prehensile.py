@@ -234,6 +234,17 @@ def test_a_ray_worker_that_dies_is_recorded_and_a_rerun_finishes(tmp_path, monke
     assert sorted(pandas.read_parquet(out).object) == ["box", "sphere"]
 
 
+def test_a_budget_is_the_whole_searchs():
+    # A budget far beyond the search gives the grasp the search gives without one; a
+    # microsecond lets each movement take one slice of work, and the result says it was still
+    # searching (`--budget-ms`, docs/PERFORMANCE.md).
+    full = without_timings(prehensile.grasp("human", "sphere", seed=1).to_dict())
+    roomy = prehensile.grasp("human", "sphere", seed=1, budget_ms=3.6e6)
+    assert without_timings(roomy.to_dict()) == full
+    tiny = prehensile.grasp("human", "torus", seed=1, budget_ms=0.001)
+    assert tiny.to_dict()["status"] == "searching"
+
+
 def test_one_sided_patience_trades_a_grasp_pushing_from_every_side_for_time():
     shadow = prehensile.Hand(os.path.join(ROOT, "assets", "hands", "shadow_hand", "reach.xml"))
     patient = prehensile.grasp(shadow, "sphere", "power", seed=3)
