@@ -15,6 +15,7 @@ use std::sync::{Condvar, Mutex, MutexGuard, PoisonError};
 
 use rayon::prelude::*;
 
+use super::planner::would_overrun;
 use super::{
     Evaluation, GraspPlanner, GraspResult, PlannerStatus, SearchError, SearchParams, SearchSink,
     SearchStats,
@@ -170,10 +171,9 @@ fn out_of_patience(progress: &[Progress], me: usize) -> bool {
             .any(|(j, p)| j != me && p.ended == Some(true) && p.steps <= steps)
 }
 
-/// Would a piece of work as long as the `last` one (zero before the first) end past
-/// `deadline`? The first is always done.
+/// Would a slice as long as the `last` one end past the `deadline`, if there is one?
 fn out_of_time(deadline: Option<Instant>, last: Duration) -> bool {
-    deadline.is_some_and(|deadline| !last.is_zero() && Instant::now() + last > deadline)
+    deadline.is_some_and(|deadline| would_overrun(deadline, last))
 }
 
 /// Advances `planner` by a step, or with a `deadline` by a [slice](GraspPlanner::slice) (a

@@ -223,6 +223,13 @@ pub struct SearchStats {
     pub seconds: f64,
 }
 
+/// Would a slice of work as long as the `last` one end past `deadline`? Never before the first
+/// slice (`last` zero): a time budget, a game frame's or a whole request's, is overrun by a
+/// single slice at most, and every search takes one.
+pub(crate) fn would_overrun(deadline: Instant, last: Duration) -> bool {
+    !last.is_zero() && Instant::now() + last > deadline
+}
+
 /// An anytime grasp search for one hand, object and movement.
 #[derive(Debug)]
 pub struct GraspPlanner<'a> {
@@ -826,13 +833,12 @@ impl<'a> GraspPlanner<'a> {
     /// one's duration, it should end within the budget — so a game frame's budget is overrun
     /// only by a single slice longer than it.
     pub fn run_for_into(&mut self, budget: Duration, sink: &mut dyn SearchSink) -> PlannerStatus {
-        let began = Instant::now();
-        while self.status == PlannerStatus::Searching {
-            let slice_began = Instant::now();
+        let deadline = Instant::now() + budget;
+        let mut last = Duration::ZERO;
+        while self.status == PlannerStatus::Searching && !would_overrun(deadline, last) {
+            let began = Instant::now();
             self.slice_into(sink);
-            if began.elapsed() + slice_began.elapsed() > budget {
-                break;
-            }
+            last = began.elapsed();
         }
         self.status
     }
