@@ -2,7 +2,10 @@
 //! the Python package): which movements `auto` tries, a planner per movement, and which result
 //! wins.
 
-use std::time::{Duration, Instant};
+use std::time::Duration;
+
+// `std::time::Instant` panics in the browser (wasm32); web-time is the same API on every target.
+use web_time::Instant;
 
 use crate::hand::HandModel;
 use crate::math::Point3;
