@@ -504,7 +504,7 @@ impl TriangleBvh {
                         a,
                         b,
                         &self.corners[t],
-                        &self.face_normals[t],
+                        &self.plane_normals[t],
                         radius,
                     ) {
                         return true;
@@ -633,5 +633,23 @@ mod tests {
             .closest_point_within(&Point3::new(0.0, 0.0, 2.0), 1.5)
             .expect("the triangle is within 1.5");
         assert!((found.signed_distance.abs() - 2f64.sqrt()).abs() < 1e-12);
+    }
+
+    /// Nor may the capsule test: a capsule 0.1 from the collapsed triangle's line but 2 from the
+    /// plane of its fallback normal touches it.
+    #[test]
+    fn a_capsule_touches_a_collapsed_triangle() {
+        let mesh = TriangleMesh {
+            vertices: vec![
+                Point3::new(0.0, 0.0, 0.0),
+                Point3::new(0.0, 0.0, 1.0),
+                Point3::new(0.0, 0.0, 2.0),
+            ],
+            triangles: vec![[0, 1, 2]],
+        };
+        let bvh = TriangleBvh::new(&mesh);
+        let (a, b) = (Point3::new(0.1, 0.0, 1.5), Point3::new(0.1, 0.5, 1.5));
+        assert!(bvh.segment_within(&a, &b, 0.11));
+        assert!(!bvh.segment_within(&a, &b, 0.09));
     }
 }

@@ -52,8 +52,8 @@ fn edge(p: &Point3, q: &Point3, u: &Point3, v: &Point3) -> (f64, f64) {
 }
 
 /// True when segment `p–q` comes within `radius` of triangle `(a, b, c)` whose unit normal is
-/// `normal`. Rejects first, cheaply, when both ends lie more than `radius` on one side of the
-/// triangle's plane.
+/// `normal`, zero for a sliver or a collapsed triangle (no plane to trust). Rejects first,
+/// cheaply, when both ends lie more than `radius` on one side of the triangle's plane.
 #[inline]
 pub fn segment_within_triangle(
     p: &Point3,
