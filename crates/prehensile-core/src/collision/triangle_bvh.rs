@@ -404,18 +404,19 @@ impl TriangleBvh {
         let (mut best, mut best_squared) = (max, max * max);
         let mut found: Option<(usize, f64)> = None;
         let middle = nalgebra::center(a, b);
+        let segment = QuerySegment::new(a, b);
         let mut stack = [0u32; STACK];
         let mut top = 1;
         while top > 0 {
             top -= 1;
             let node = self.nodes[stack[top] as usize];
-            if !segment_meets_box(a, b, &node.min, &node.max, best) {
+            if !segment.meets_box(&node.min, &node.max, best) {
                 continue;
             }
             if node.count > 0 {
                 for t in node.first as usize..(node.first + node.count) as usize {
                     let (centre, reach) = self.spheres[t];
-                    if distance_squared_point_segment(&centre, a, b) > (best + reach).powi(2) {
+                    if segment.distance_squared_to(&centre) > (best + reach).powi(2) {
                         continue;
                     }
                     // A triangle is no nearer than its plane.
@@ -485,19 +486,20 @@ impl TriangleBvh {
     /// True when some triangle lies within `radius` of segment `a–b` (the capsule touches the
     /// surface). Does not detect a capsule wholly inside; see [`TriangleBvh::capsule_touches`].
     pub fn segment_within(&self, a: &Point3, b: &Point3, radius: f64) -> bool {
+        let segment = QuerySegment::new(a, b);
         let mut stack = [0u32; STACK];
         let mut top = 1;
         while top > 0 {
             top -= 1;
             let node = self.nodes[stack[top] as usize];
-            if !segment_meets_box(a, b, &node.min, &node.max, radius) {
+            if !segment.meets_box(&node.min, &node.max, radius) {
                 continue;
             }
             if node.count > 0 {
                 for t in node.first as usize..(node.first + node.count) as usize {
                     let (centre, reach) = self.spheres[t];
                     let near = radius + reach;
-                    if distance_squared_point_segment(&centre, a, b) > near * near {
+                    if segment.distance_squared_to(&centre) > near * near {
                         continue;
                     }
                     if segment_within_triangle(
@@ -563,52 +565,77 @@ pub(super) fn vertical_crossing([a, b, c]: &[Point3; 3], x: f64, y: f64) -> Opti
         .then(|| (a.z + u * (b.z - a.z) + v * (c.z - a.z), change))
 }
 
-#[inline]
-fn distance_squared_point_segment(p: &Point3, a: &Point3, b: &Point3) -> f64 {
-    let ab = b - a;
-    let len2 = ab.norm_squared();
-    let t = if len2 > 0.0 {
-        ((p - a).dot(&ab) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (a + ab * t - p).norm_squared()
-}
-
 /// Squared distance from `p` to a node's box.
 fn box_distance_squared(node: &Node, p: &Point3) -> f64 {
     let d = Vec3::from_fn(|i, _| (node.min[i] - p[i]).max(p[i] - node.max[i]).max(0.0));
     d.norm_squared()
 }
 
-/// Does segment `a–b` meet the box grown by `r` on every side? (slab test; a superset of "the
-/// capsule meets the box", which is all the traversal needs)
-// Inlined by hand: once a second query used it (`closest_point_to_segment_within`) the
-// compiler stopped inlining it into `segment_within`, the closing's exact test, 9% slower.
-#[inline]
-fn segment_meets_box(a: &Point3, b: &Point3, min: &Point3, max: &Point3, r: f64) -> bool {
-    let d = b - a;
-    let (mut t0, mut t1) = (0.0f64, 1.0f64);
-    for i in 0..3 {
-        let (lo, hi) = (min[i] - r, max[i] + r);
-        if d[i].abs() < 1e-300 {
-            if a[i] < lo || a[i] > hi {
-                return false;
-            }
-        } else {
-            let inv = 1.0 / d[i];
-            let (mut ta, mut tb) = ((lo - a[i]) * inv, (hi - a[i]) * inv);
-            if ta > tb {
-                std::mem::swap(&mut ta, &mut tb);
-            }
-            t0 = t0.max(ta);
-            t1 = t1.min(tb);
-            if t0 > t1 {
-                return false;
-            }
+/// A query segment `a–b` with what every box and triangle test of one traversal would
+/// otherwise compute again: its direction, the direction's reciprocals and its squared length's.
+struct QuerySegment {
+    a: Point3,
+    direction: Vec3,
+    /// 1 / direction, per axis; `None` along an axis the segment does not move along.
+    reciprocal: [Option<f64>; 3],
+    /// 1 / |direction|², 0 for a point.
+    reciprocal_length_squared: f64,
+}
+
+impl QuerySegment {
+    fn new(a: &Point3, b: &Point3) -> Self {
+        let direction = b - a;
+        let length_squared = direction.norm_squared();
+        Self {
+            a: *a,
+            direction,
+            reciprocal: std::array::from_fn(|i| {
+                (direction[i].abs() >= 1e-300).then(|| 1.0 / direction[i])
+            }),
+            reciprocal_length_squared: if length_squared > 0.0 {
+                1.0 / length_squared
+            } else {
+                0.0
+            },
         }
     }
-    true
+
+    /// Squared distance from `p` to the segment.
+    #[inline]
+    fn distance_squared_to(&self, p: &Point3) -> f64 {
+        let t =
+            ((p - self.a).dot(&self.direction) * self.reciprocal_length_squared).clamp(0.0, 1.0);
+        (self.a + self.direction * t - p).norm_squared()
+    }
+
+    /// Does the segment meet the box grown by `r` on every side? (slab test; a superset of "the
+    /// capsule meets the box", which is all the traversal needs)
+    #[inline]
+    fn meets_box(&self, min: &Point3, max: &Point3, r: f64) -> bool {
+        let (mut t0, mut t1) = (0.0f64, 1.0f64);
+        for i in 0..3 {
+            let (lo, hi) = (min[i] - r, max[i] + r);
+            match self.reciprocal[i] {
+                None => {
+                    if self.a[i] < lo || self.a[i] > hi {
+                        return false;
+                    }
+                }
+                Some(inv) => {
+                    let (mut ta, mut tb) = ((lo - self.a[i]) * inv, (hi - self.a[i]) * inv);
+                    if ta > tb {
+                        std::mem::swap(&mut ta, &mut tb);
+                    }
+                    t0 = t0.max(ta);
+                    t1 = t1.min(tb);
+                    if t0 > t1 {
+                        return false;
+                    }
+                }
+            }
+        }
+        true
+    }
 }
 
 #[cfg(test)]

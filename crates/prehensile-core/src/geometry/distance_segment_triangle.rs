@@ -51,9 +51,16 @@ fn edge(p: &Point3, q: &Point3, u: &Point3, v: &Point3) -> (f64, f64) {
     (d, s)
 }
 
-/// True when segment `p–q` comes within `radius` of triangle `(a, b, c)` whose unit normal is
-/// `normal`, zero for a sliver or a collapsed triangle (no plane to trust). Rejects first,
-/// cheaply, when both ends lie more than `radius` on one side of the triangle's plane.
+/// True when segment `p–q` comes within `radius` of triangle `(a, b, c)`. `normal` is the
+/// triangle's unit normal, oriented as `(b − a) × (c − a)`, or zero for a sliver or a collapsed
+/// triangle (no plane to trust: the full distance decides).
+///
+/// With a normal the test needs no nearest point on the triangle. It rejects when both ends lie
+/// more than `radius` on one side of the plane, or beyond the plane through an edge along the
+/// normal. It accepts where the segment pierces the triangle, or where an end within `radius`
+/// of the plane lies over the triangle. Otherwise the nearest points are on an edge (an end not
+/// over the triangle is nearest to its boundary), so the three segment–edge distances decide,
+/// the first one near enough ending it. The radius is not negative.
 #[inline]
 pub fn segment_within_triangle(
     p: &Point3,
@@ -62,12 +69,43 @@ pub fn segment_within_triangle(
     normal: &Vec3,
     radius: f64,
 ) -> bool {
+    if *normal == Vec3::zeros() {
+        return distance_squared_segment_triangle(p, q, a, b, c) <= radius * radius;
+    }
     let sp = normal.dot(&(p - a));
     let sq = normal.dot(&(q - a));
     if (sp > radius && sq > radius) || (sp < -radius && sq < -radius) {
         return false;
     }
-    distance_squared_segment_triangle(p, q, a, b, c) <= radius * radius
+    // For each edge u→v, (x − u)·(n × (v − u)) is |v − u| times x's signed distance from the
+    // plane through the edge along n, positive on the triangle's side.
+    let r2 = radius * radius;
+    let mut inward = [[0.0; 3]; 2];
+    for (k, (u, v)) in [(a, b), (b, c), (c, a)].into_iter().enumerate() {
+        let across = normal.cross(&(v - u));
+        let (hp, hq) = ((p - u).dot(&across), (q - u).dot(&across));
+        // Both ends more than `radius` beyond this edge's plane: a separating plane.
+        if hp < 0.0 && hq < 0.0 && hp.max(hq).powi(2) > r2 * across.norm_squared() {
+            return false;
+        }
+        inward[0][k] = hp;
+        inward[1][k] = hq;
+    }
+    let over = |h: &[f64; 3]| h.iter().all(|&x| x >= 0.0);
+    if (sp <= 0.0) != (sq <= 0.0) {
+        let t = sp / (sp - sq);
+        let at: [f64; 3] =
+            std::array::from_fn(|k| inward[0][k] + t * (inward[1][k] - inward[0][k]));
+        if over(&at) {
+            return true;
+        }
+    }
+    if (sp.abs() <= radius && over(&inward[0])) || (sq.abs() <= radius && over(&inward[1])) {
+        return true;
+    }
+    closest_segment_segment(p, q, a, b).0 <= r2
+        || closest_segment_segment(p, q, b, c).0 <= r2
+        || closest_segment_segment(p, q, c, a).0 <= r2
 }
 
 /// Where the segment crosses the triangle's plane inside the triangle (boundary included), as a
@@ -110,6 +148,45 @@ mod tests {
             let expected =
                 distance_squared_segment_triangle(&a, &b, &tri[0], &tri[1], &tri[2]) <= r * r;
             assert_eq!(segment_within_triangle(&a, &b, &tri, &n, r), expected);
+        }
+    }
+
+    /// The shortcut test (no nearest point on the triangle) against the full distance, with
+    /// radii just below and above it; in a quarter of the cases segment and triangle lie in one
+    /// plane.
+    #[test]
+    fn the_within_test_agrees_with_the_distance() {
+        let mut rng = crate::search::random::SplitMix64::new(11);
+        let mut point = |flat: bool| {
+            Point3::new(
+                rng.uniform(-1.0, 1.0),
+                rng.uniform(-1.0, 1.0),
+                if flat { 0.0 } else { rng.uniform(-1.0, 1.0) },
+            )
+        };
+        for case in 0..20_000 {
+            let flat = case % 4 == 0;
+            let (p, q, a, b, c) = (
+                point(flat),
+                point(flat),
+                point(flat),
+                point(flat),
+                point(flat),
+            );
+            let normal = (b - a).cross(&(c - a)).normalize();
+            let d = distance_squared_segment_triangle(&p, &q, &a, &b, &c).sqrt();
+            // Radii within rounding of the distance (1e-12) are ties either answer may take.
+            let radii = [d * 0.999 - 1e-9, d * 1.001 + 1e-9, 0.5 * d, d + 0.1];
+            for r in radii
+                .into_iter()
+                .filter(|&r| r >= 0.0 && (r - d).abs() > 1e-12)
+            {
+                assert_eq!(
+                    segment_within_triangle(&p, &q, &[a, b, c], &normal, r),
+                    d <= r,
+                    "case {case}: distance {d}, radius {r}"
+                );
+            }
         }
     }
 
