@@ -807,19 +807,22 @@ impl<'a> GraspPlanner<'a> {
             }
             return;
         }
-        // Each workspace takes a run of consecutive candidates on rayon's pool (its threads live
-        // between steps instead of being started for each); results land by index, so the
-        // outcome does not depend on the thread count.
-        let per = n.div_ceil(threads);
-        self.workspaces
+        // Each workspace on rayon's pool (its threads live between steps instead of being
+        // started for each) takes the next candidate nobody has taken yet: candidates differ in
+        // cost several times over, and fixed shares left one thread waiting for the other.
+        // Results land by index, so the outcome does not depend on the thread count.
+        let work = std::sync::Mutex::new(results.iter_mut().zip(candidates).zip(capsules));
+        self.workspaces[..threads]
             .par_iter_mut()
-            .zip(candidates.par_chunks(per))
-            .zip(results.par_chunks_mut(per))
-            .zip(capsules.par_chunks_mut(per))
-            .for_each(|(((ws, rotations), slots), capsules)| {
-                for ((slot, r), c) in slots.iter_mut().zip(rotations).zip(capsules) {
-                    *slot = Some(evaluate(r, ws, c));
-                }
+            .for_each(|ws| loop {
+                let next = work
+                    .lock()
+                    .unwrap_or_else(std::sync::PoisonError::into_inner)
+                    .next();
+                let Some(((slot, r), c)) = next else {
+                    break;
+                };
+                *slot = Some(evaluate(r, ws, c));
             });
     }
 
