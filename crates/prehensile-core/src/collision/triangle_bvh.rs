@@ -33,6 +33,10 @@ const LEAF_SIZE: usize = 4;
 const SLIVER_SINE: f64 = 1e-3;
 /// Traversal stack depth; a median-split tree over 20 million triangles is about 24 deep.
 const STACK: usize = 64;
+/// Below this depth nodes split at the median, so that no traversal's stack overflows.
+const MAX_SAH_DEPTH: usize = 32;
+/// Bins of the surface area heuristic's split.
+const SAH_BINS: usize = 16;
 
 #[derive(Debug, Clone, Copy)]
 struct Node {
@@ -158,7 +162,18 @@ impl TriangleBvh {
             count: 0,
         });
         let mut order: Vec<u32> = (0..n as u32).collect();
-        bvh.build(&mut order, 0, 0, n);
+        let boxes: Vec<Aabb> = bvh
+            .corners
+            .iter()
+            .map(|[a, b, c]| {
+                (
+                    a.coords.inf(&b.coords).inf(&c.coords),
+                    a.coords.sup(&b.coords).sup(&c.coords),
+                )
+            })
+            .collect();
+        let bounds = bounds_of(&boxes, &order);
+        bvh.build(&boxes, &mut order, 0, 0, n, 0, bounds);
         bvh.store_in_leaf_order(&order);
         bvh
     }
@@ -267,40 +282,55 @@ impl TriangleBvh {
         }
     }
 
-    /// Builds node `index` over the triangles `order[start..end]`, splitting at the median of the
-    /// longest axis; leaves refer to positions in `order`.
-    fn build(&mut self, order: &mut [u32], index: usize, start: usize, end: usize) {
-        let (mut lo, mut hi) = (
-            Point3::from(Vec3::repeat(f64::INFINITY)),
-            Point3::from(Vec3::repeat(f64::NEG_INFINITY)),
-        );
-        for &t in &order[start..end] {
-            for p in &self.corners[t as usize] {
-                lo = lo.inf(p);
-                hi = hi.sup(p);
-            }
-        }
-        self.nodes[index].min = lo;
-        self.nodes[index].max = hi;
+    /// Builds node `index`, at `depth`, around `bounds` (the box of triangles
+    /// `order[start..end]`, from `boxes`); leaves refer to positions in `order`. Splits where the
+    /// surface area heuristic says ([`sah_split`]), at the median of the longest axis where it
+    /// finds no split or the tree is deep.
+    #[allow(clippy::too_many_arguments)] // one recursion's state
+    fn build(
+        &mut self,
+        boxes: &[Aabb],
+        order: &mut [u32],
+        index: usize,
+        start: usize,
+        end: usize,
+        depth: usize,
+        bounds: Aabb,
+    ) {
+        self.nodes[index].min = Point3::from(bounds.0);
+        self.nodes[index].max = Point3::from(bounds.1);
         if end - start <= LEAF_SIZE {
             self.nodes[index].first = start as u32;
             self.nodes[index].count = (end - start) as u32;
             return;
         }
-        let axis = (hi - lo).imax();
-        let mid = (start + end) / 2;
-        let spheres = &self.spheres;
-        order[start..end].select_nth_unstable_by(mid - start, |&x, &y| {
-            spheres[x as usize].0[axis].total_cmp(&spheres[y as usize].0[axis])
-        });
+        let split = (depth < MAX_SAH_DEPTH)
+            .then(|| sah_split(boxes, &self.spheres, &mut order[start..end]))
+            .flatten();
+        let (mid, left_bounds, right_bounds) = match split {
+            Some((k, left, right)) => (start + k, left, right),
+            None => {
+                let axis = (bounds.1 - bounds.0).imax();
+                let mid = (start + end) / 2;
+                let spheres = &self.spheres;
+                order[start..end].select_nth_unstable_by(mid - start, |&x, &y| {
+                    spheres[x as usize].0[axis].total_cmp(&spheres[y as usize].0[axis])
+                });
+                (
+                    mid,
+                    bounds_of(boxes, &order[start..mid]),
+                    bounds_of(boxes, &order[mid..end]),
+                )
+            }
+        };
         let left = self.nodes.len();
         let blank = self.nodes[index];
         self.nodes.push(blank);
         self.nodes.push(blank);
         self.nodes[index].first = left as u32;
         self.nodes[index].count = 0;
-        self.build(order, left, start, mid);
-        self.build(order, left + 1, mid, end);
+        self.build(boxes, order, left, start, mid, depth + 1, left_bounds);
+        self.build(boxes, order, left + 1, mid, end, depth + 1, right_bounds);
     }
 
     /// The mesh's bounding box (lower and upper corners).
@@ -544,6 +574,93 @@ impl TriangleBvh {
     }
 }
 
+/// Where to split `order` (triangles by index) by the surface area heuristic: the triangles
+/// binned by their centres along the centres' longest axis, the split between bins that
+/// minimizes each side's box area times its count. Reorders `order` to put the left side first
+/// and returns its length and both sides' boxes, or `None` when every centre falls in one bin.
+fn sah_split(
+    boxes: &[Aabb],
+    spheres: &[(Point3, f64)],
+    order: &mut [u32],
+) -> Option<(usize, Aabb, Aabb)> {
+    let (lo, hi) = order.iter().fold(EMPTY_BOX, |(lo, hi), &t| {
+        let c = spheres[t as usize].0.coords;
+        (lo.inf(&c), hi.sup(&c))
+    });
+    let axis = (hi - lo).imax();
+    let extent = hi[axis] - lo[axis];
+    if extent.is_nan() || extent <= 0.0 {
+        return None;
+    }
+    let bin = |t: u32| {
+        let x = (spheres[t as usize].0[axis] - lo[axis]) / extent * SAH_BINS as f64;
+        (x as usize).min(SAH_BINS - 1)
+    };
+    let mut bins = [EMPTY_BOX; SAH_BINS];
+    let mut counts = [0usize; SAH_BINS];
+    for &t in order.iter() {
+        let k = bin(t);
+        counts[k] += 1;
+        bins[k] = grown(bins[k], boxes[t as usize]);
+    }
+    // Half the box's area (the factor 2 is common to every split).
+    let area = |(lo, hi): Aabb| {
+        let d = (hi - lo).map(|x| x.max(0.0));
+        d.x * d.y + d.y * d.z + d.z * d.x
+    };
+    // Cost of the right side of each split, swept from the right.
+    let mut right_cost = [0.0; SAH_BINS];
+    let (mut right, mut n) = (EMPTY_BOX, 0);
+    for k in (1..SAH_BINS).rev() {
+        right = grown(right, bins[k]);
+        n += counts[k];
+        right_cost[k] = area(right) * n as f64;
+    }
+    let (mut left, mut n) = (EMPTY_BOX, 0);
+    let mut best: Option<(f64, usize)> = None;
+    for k in 1..SAH_BINS {
+        left = grown(left, bins[k - 1]);
+        n += counts[k - 1];
+        let cost = area(left) * n as f64 + right_cost[k];
+        if n > 0 && n < order.len() && best.is_none_or(|(c, _)| cost < c) {
+            best = Some((cost, k));
+        }
+    }
+    let (_, split) = best?;
+    let mut left_len = 0;
+    for i in 0..order.len() {
+        if bin(order[i]) < split {
+            order.swap(i, left_len);
+            left_len += 1;
+        }
+    }
+    let side =
+        |range: std::ops::Range<usize>| bins[range].iter().fold(EMPTY_BOX, |a, &b| grown(a, b));
+    Some((left_len, side(0..split), side(split..SAH_BINS)))
+}
+
+/// The box around the boxes of triangles `order`.
+fn bounds_of(boxes: &[Aabb], order: &[u32]) -> Aabb {
+    order
+        .iter()
+        .fold(EMPTY_BOX, |b, &t| grown(b, boxes[t as usize]))
+}
+
+/// An axis-aligned box: its lower and upper corners.
+type Aabb = (Vec3, Vec3);
+
+/// The box around nothing, which any box grows from.
+const EMPTY_BOX: Aabb = (
+    Vec3::new(f64::INFINITY, f64::INFINITY, f64::INFINITY),
+    Vec3::new(f64::NEG_INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY),
+);
+
+/// The box around boxes `a` and `b`.
+#[inline]
+fn grown(a: Aabb, b: Aabb) -> Aabb {
+    (a.0.inf(&b.0), a.1.sup(&b.1))
+}
+
 /// `v` normalized, or `fallback` when it has no direction (a collapsed triangle, or normals
 /// of an inconsistent mesh that cancel).
 fn unit_or(v: Vec3, fallback: Vec3) -> Vec3 {
@@ -660,6 +777,70 @@ mod tests {
             .closest_point_within(&Point3::new(0.0, 0.0, 2.0), 1.5)
             .expect("the triangle is within 1.5");
         assert!((found.signed_distance.abs() - 2f64.sqrt()).abs() < 1e-12);
+    }
+
+    /// The queries against every triangle, on a mesh the split heuristic builds a lopsided tree
+    /// for: beside a sphere of even triangles, a row of triangles each half the size of the last
+    /// and half as far from the row's end. The heuristic peels them off a few at a time, past its
+    /// depth limit, below which the median must take over so that no traversal's stack
+    /// overflows.
+    #[test]
+    fn queries_agree_with_every_triangle_on_a_lopsided_tree() {
+        let mut mesh = crate::shapes::sphere(0.05, 24, 12);
+        for k in 0..300 {
+            let x = 0.1 + 0.2 * 0.5f64.powi(k);
+            let base = mesh.vertices.len() as u32;
+            let w = 0.01 * 0.5f64.powi(k);
+            mesh.vertices.extend([
+                Point3::new(x, 0.0, 0.0),
+                Point3::new(x + w, w, 0.0),
+                Point3::new(x, 0.0, w),
+            ]);
+            mesh.triangles.push([base, base + 1, base + 2]);
+        }
+        let bvh = TriangleBvh::new(&mesh);
+        fn depth(bvh: &TriangleBvh, node: usize) -> usize {
+            let n = bvh.nodes[node];
+            if n.count > 0 {
+                1
+            } else {
+                1 + depth(bvh, n.first as usize).max(depth(bvh, n.first as usize + 1))
+            }
+        }
+        // Past the heuristic's limit (88 levels without it), within the traversals' stacks.
+        let levels = depth(&bvh, 0);
+        assert!(levels > MAX_SAH_DEPTH && levels < STACK, "{levels} levels");
+        let mut rng = crate::search::random::SplitMix64::new(5);
+        let mut point = || {
+            Point3::new(
+                rng.uniform(-0.08, 0.35),
+                rng.uniform(-0.08, 0.08),
+                rng.uniform(-0.08, 0.08),
+            )
+        };
+        for _ in 0..300 {
+            let (p, q) = (point(), point());
+            let every = (0..mesh.triangles.len())
+                .map(|t| {
+                    let [a, b, c] = mesh.corners(t);
+                    (crate::geometry::closest_point_on_triangle(&p, &a, &b, &c).0 - p).norm()
+                })
+                .fold(f64::INFINITY, f64::min);
+            let found = bvh.closest_point_within(&p, 1.0).expect("within a metre");
+            assert!((found.signed_distance.abs() - every).abs() < 1e-12);
+            let d = bvh.segment_distance(&p, &q);
+            for r in [0.5 * d, 0.999 * d, 1.001 * d + 1e-12] {
+                assert_eq!(
+                    bvh.segment_within(&p, &q, r),
+                    d <= r,
+                    "radius {r}, distance {d}"
+                );
+            }
+            let (_, near) = bvh
+                .closest_point_to_segment_within(&p, &q, 1.0)
+                .expect("within a metre");
+            assert!((near.signed_distance.abs() - d).abs() < 1e-12 || d == 0.0);
+        }
     }
 
     /// Nor may the capsule test: a capsule 0.1 from the collapsed triangle's line but 2 from the
