@@ -161,19 +161,22 @@ impl TriangleBvh {
             first: 0,
             count: 0,
         });
-        let mut order: Vec<u32> = (0..n as u32).collect();
-        let boxes: Vec<Aabb> = bvh
-            .corners
-            .iter()
-            .map(|[a, b, c]| {
-                (
-                    a.coords.inf(&b.coords).inf(&c.coords),
-                    a.coords.sup(&b.coords).sup(&c.coords),
-                )
+        let mut items: Vec<BuildItem> = (0..n)
+            .map(|t| {
+                let [a, b, c] = &bvh.corners[t];
+                BuildItem {
+                    centre: bvh.spheres[t].0.coords,
+                    bounds: (
+                        a.coords.inf(&b.coords).inf(&c.coords),
+                        a.coords.sup(&b.coords).sup(&c.coords),
+                    ),
+                    triangle: t as u32,
+                }
             })
             .collect();
-        let bounds = bounds_of(&boxes, &order);
-        bvh.build(&boxes, &mut order, 0, 0, n, 0, bounds);
+        let bounds = bounds_of(&items);
+        bvh.build(&mut items, 0, 0, 0, bounds);
+        let order: Vec<u32> = items.iter().map(|item| item.triangle).collect();
         bvh.store_in_leaf_order(&order);
         bvh
     }
@@ -282,45 +285,33 @@ impl TriangleBvh {
         }
     }
 
-    /// Builds node `index`, at `depth`, around `bounds` (the box of triangles
-    /// `order[start..end]`, from `boxes`); leaves refer to positions in `order`. Splits where the
-    /// surface area heuristic says ([`sah_split`]), at the median of the longest axis where it
-    /// finds no split or the tree is deep.
-    #[allow(clippy::too_many_arguments)] // one recursion's state
+    /// Builds node `index`, at `depth`, around `bounds` (the box of `items`, which start at
+    /// position `start` of the whole build's); leaves refer to positions in the build's order.
+    /// Splits where the surface area heuristic says ([`sah_split`]), at the median of the
+    /// longest axis where it finds no split or the tree is deep.
     fn build(
         &mut self,
-        boxes: &[Aabb],
-        order: &mut [u32],
+        items: &mut [BuildItem],
         index: usize,
         start: usize,
-        end: usize,
         depth: usize,
         bounds: Aabb,
     ) {
         self.nodes[index].min = Point3::from(bounds.0);
         self.nodes[index].max = Point3::from(bounds.1);
-        if end - start <= LEAF_SIZE {
+        if items.len() <= LEAF_SIZE {
             self.nodes[index].first = start as u32;
-            self.nodes[index].count = (end - start) as u32;
+            self.nodes[index].count = items.len() as u32;
             return;
         }
-        let split = (depth < MAX_SAH_DEPTH)
-            .then(|| sah_split(boxes, &self.spheres, &mut order[start..end]))
-            .flatten();
+        let split = (depth < MAX_SAH_DEPTH).then(|| sah_split(items)).flatten();
         let (mid, left_bounds, right_bounds) = match split {
-            Some((k, left, right)) => (start + k, left, right),
+            Some(split) => split,
             None => {
                 let axis = (bounds.1 - bounds.0).imax();
-                let mid = (start + end) / 2;
-                let spheres = &self.spheres;
-                order[start..end].select_nth_unstable_by(mid - start, |&x, &y| {
-                    spheres[x as usize].0[axis].total_cmp(&spheres[y as usize].0[axis])
-                });
-                (
-                    mid,
-                    bounds_of(boxes, &order[start..mid]),
-                    bounds_of(boxes, &order[mid..end]),
-                )
+                let mid = items.len() / 2;
+                items.select_nth_unstable_by(mid, |x, y| x.centre[axis].total_cmp(&y.centre[axis]));
+                (mid, bounds_of(&items[..mid]), bounds_of(&items[mid..]))
             }
         };
         let left = self.nodes.len();
@@ -329,8 +320,9 @@ impl TriangleBvh {
         self.nodes.push(blank);
         self.nodes[index].first = left as u32;
         self.nodes[index].count = 0;
-        self.build(boxes, order, left, start, mid, depth + 1, left_bounds);
-        self.build(boxes, order, left + 1, mid, end, depth + 1, right_bounds);
+        let (left_items, right_items) = items.split_at_mut(mid);
+        self.build(left_items, left, start, depth + 1, left_bounds);
+        self.build(right_items, left + 1, start + mid, depth + 1, right_bounds);
     }
 
     /// The mesh's bounding box (lower and upper corners).
@@ -574,34 +566,38 @@ impl TriangleBvh {
     }
 }
 
-/// Where to split `order` (triangles by index) by the surface area heuristic: the triangles
-/// binned by their centres along the centres' longest axis, the split between bins that
-/// minimizes each side's box area times its count. Reorders `order` to put the left side first
-/// and returns its length and both sides' boxes, or `None` when every centre falls in one bin.
-fn sah_split(
-    boxes: &[Aabb],
-    spheres: &[(Point3, f64)],
-    order: &mut [u32],
-) -> Option<(usize, Aabb, Aabb)> {
-    let (lo, hi) = order.iter().fold(EMPTY_BOX, |(lo, hi), &t| {
-        let c = spheres[t as usize].0.coords;
-        (lo.inf(&c), hi.sup(&c))
+/// A triangle as the tree's build moves it: its centre (the split key), its box and its index.
+/// The build reorders these, not indices into per-triangle arrays, so that each level reads
+/// its range of them in order instead of at random.
+#[derive(Debug, Clone, Copy)]
+struct BuildItem {
+    centre: Vec3,
+    bounds: Aabb,
+    triangle: u32,
+}
+
+/// Where to split `items` by the surface area heuristic: the triangles binned by their
+/// centres along the centres' longest axis, the split between bins that minimizes each side's
+/// box area times its count. Reorders `items` to put the left side first and returns its
+/// length and both sides' boxes, or `None` when every centre falls in one bin.
+fn sah_split(items: &mut [BuildItem]) -> Option<(usize, Aabb, Aabb)> {
+    let (lo, hi) = items.iter().fold(EMPTY_BOX, |(lo, hi), item| {
+        (lo.inf(&item.centre), hi.sup(&item.centre))
     });
     let axis = (hi - lo).imax();
     let extent = hi[axis] - lo[axis];
     if extent.is_nan() || extent <= 0.0 {
         return None;
     }
-    let bin = |t: u32| {
-        let x = (spheres[t as usize].0[axis] - lo[axis]) / extent * SAH_BINS as f64;
-        (x as usize).min(SAH_BINS - 1)
-    };
+    let scale = SAH_BINS as f64 / extent;
+    let bin =
+        |item: &BuildItem| (((item.centre[axis] - lo[axis]) * scale) as usize).min(SAH_BINS - 1);
     let mut bins = [EMPTY_BOX; SAH_BINS];
     let mut counts = [0usize; SAH_BINS];
-    for &t in order.iter() {
-        let k = bin(t);
+    for item in items.iter() {
+        let k = bin(item);
         counts[k] += 1;
-        bins[k] = grown(bins[k], boxes[t as usize]);
+        bins[k] = grown(bins[k], item.bounds);
     }
     // Half the box's area (the factor 2 is common to every split).
     let area = |(lo, hi): Aabb| {
@@ -622,15 +618,15 @@ fn sah_split(
         left = grown(left, bins[k - 1]);
         n += counts[k - 1];
         let cost = area(left) * n as f64 + right_cost[k];
-        if n > 0 && n < order.len() && best.is_none_or(|(c, _)| cost < c) {
+        if n > 0 && n < items.len() && best.is_none_or(|(c, _)| cost < c) {
             best = Some((cost, k));
         }
     }
     let (_, split) = best?;
     let mut left_len = 0;
-    for i in 0..order.len() {
-        if bin(order[i]) < split {
-            order.swap(i, left_len);
+    for i in 0..items.len() {
+        if bin(&items[i]) < split {
+            items.swap(i, left_len);
             left_len += 1;
         }
     }
@@ -639,11 +635,11 @@ fn sah_split(
     Some((left_len, side(0..split), side(split..SAH_BINS)))
 }
 
-/// The box around the boxes of triangles `order`.
-fn bounds_of(boxes: &[Aabb], order: &[u32]) -> Aabb {
-    order
+/// The box around the boxes of `items`.
+fn bounds_of(items: &[BuildItem]) -> Aabb {
+    items
         .iter()
-        .fold(EMPTY_BOX, |b, &t| grown(b, boxes[t as usize]))
+        .fold(EMPTY_BOX, |b, item| grown(b, item.bounds))
 }
 
 /// An axis-aligned box: its lower and upper corners.
