@@ -72,56 +72,38 @@ impl TriangleBvh {
     /// Builds the hierarchy for a closed, manifold, consistently wound mesh (one that passed
     /// [`TriangleMesh::report`] without defects): signs from pseudo-normals.
     pub fn new(mesh: &TriangleMesh) -> Self {
-        let n = mesh.triangles.len();
-        let corners: Vec<[Point3; 3]> = (0..n).map(|t| mesh.corners(t)).collect();
-        let face_normals: Vec<Vec3> = corners
+        // The tree and the pseudo-normals need nothing of each other: they are built side by
+        // side. Every per-triangle array is then gathered once in leaf order, so that a query
+        // reads a leaf's corners and normals from neighbouring memory (fewer cache misses on
+        // scans of tens of thousands of triangles) without an index table.
+        let ((nodes, order), normals) = rayon::join(
+            || {
+                let mut items: Vec<BuildItem> = (0..mesh.triangles.len())
+                    .map(|t| BuildItem::new(&mesh.corners(t), t as u32))
+                    .collect();
+                let (bounds, centres) = boxes_of(&items);
+                let mut nodes = Vec::with_capacity(2 * items.len() / LEAF_SIZE + 1);
+                nodes.push(Node {
+                    min: Point3::from(bounds.0),
+                    max: Point3::from(bounds.1),
+                    first: 0,
+                    count: 0,
+                });
+                build(&mut nodes, &mut items, 0, 0, 0, centres);
+                let order: Vec<usize> = items.iter().map(|item| item.triangle as usize).collect();
+                (nodes, order)
+            },
+            || PseudoNormals::new(mesh),
+        );
+        let face_normals = order.iter().map(|&t| normals.face[t]).collect();
+        let edge_normals = order.iter().map(|&t| normals.edge[t]).collect();
+        let vertex_normals = order
             .iter()
-            .map(|[a, b, c]| unit_or((b - a).cross(&(c - a)), Vec3::z()))
-            .collect();
-        // Angle-weighted vertex pseudo-normals.
-        let mut vertex_acc = vec![Vec3::zeros(); mesh.vertices.len()];
-        for (t, tri) in mesh.triangles.iter().enumerate() {
-            let p = &corners[t];
-            for k in 0..3 {
-                let e1 = (p[(k + 1) % 3] - p[k]).normalize();
-                let e2 = (p[(k + 2) % 3] - p[k]).normalize();
-                let angle = e1.dot(&e2).clamp(-1.0, 1.0).acos();
-                vertex_acc[tri[k] as usize] += face_normals[t] * angle;
-            }
-        }
-        let vertex_normals = mesh
-            .triangles
-            .iter()
-            .zip(&face_normals)
-            .map(|(tri, face)| tri.map(|i| unit_or(vertex_acc[i as usize], *face)))
-            .collect();
-        // Edge pseudo-normals: the sum of the face normals of the triangles on each edge. The
-        // triangles' edges (three each) are sorted by their vertex pair, so that an edge's
-        // triangles lie together, in mesh order (a sort, not a map: a third of a
-        // million-triangle setup went to the map).
-        let mut edges: Vec<(u64, usize)> = mesh
-            .triangles
-            .iter()
-            .enumerate()
-            .flat_map(|(t, tri)| {
-                (0..3).map(move |k| {
-                    let (u, v) = (tri[k], tri[(k + 1) % 3]);
-                    ((u64::from(u.min(v)) << 32) | u64::from(u.max(v)), 3 * t + k)
-                })
+            .map(|&t| {
+                mesh.triangles[t].map(|i| unit_or(normals.vertex_sums[i as usize], normals.face[t]))
             })
             .collect();
-        edges.sort_unstable();
-        let mut edge_normals = vec![[Vec3::zeros(); 3]; n];
-        for edge in edges.chunk_by(|x, y| x.0 == y.0) {
-            let sum = edge.iter().fold(Vec3::zeros(), |sum, &(_, slot)| {
-                sum + face_normals[slot / 3]
-            });
-            for &(_, slot) in edge {
-                let t = slot / 3;
-                edge_normals[t][slot % 3] = unit_or(sum, face_normals[t]);
-            }
-        }
-
+        let corners: Vec<[Point3; 3]> = order.iter().map(|&t| mesh.corners(t)).collect();
         let plane_normals = corners
             .iter()
             .map(|[a, b, c]| {
@@ -137,7 +119,7 @@ impl TriangleBvh {
         let spheres = corners
             .iter()
             .map(|[a, b, c]| {
-                let centre = Point3::from((a.coords + b.coords + c.coords) / 3.0);
+                let centre = Point3::from(triangle_centre(a, b, c));
                 let radius = (a - centre)
                     .norm()
                     .max((b - centre).norm())
@@ -145,57 +127,16 @@ impl TriangleBvh {
                 (centre, radius)
             })
             .collect();
-        let mut bvh = Self {
+        Self {
             corners,
             spheres,
             face_normals,
             plane_normals,
             edge_normals,
             vertex_normals,
-            nodes: Vec::with_capacity(2 * n / LEAF_SIZE + 1),
+            nodes,
             winding: None,
-        };
-        bvh.nodes.push(Node {
-            min: Point3::origin(),
-            max: Point3::origin(),
-            first: 0,
-            count: 0,
-        });
-        let mut items: Vec<BuildItem> = (0..n)
-            .map(|t| {
-                let [a, b, c] = &bvh.corners[t];
-                BuildItem {
-                    centre: bvh.spheres[t].0.coords,
-                    bounds: (
-                        a.coords.inf(&b.coords).inf(&c.coords),
-                        a.coords.sup(&b.coords).sup(&c.coords),
-                    ),
-                    triangle: t as u32,
-                }
-            })
-            .collect();
-        let bounds = bounds_of(&items);
-        bvh.build(&mut items, 0, 0, 0, bounds);
-        let order: Vec<u32> = items.iter().map(|item| item.triangle).collect();
-        bvh.store_in_leaf_order(&order);
-        bvh
-    }
-
-    /// Reorders every per-triangle array so that each leaf's triangles are contiguous, in the
-    /// order the build left them: a query then reads a leaf's corners and normals from
-    /// neighbouring memory instead of through an index table (fewer cache misses on scans of
-    /// tens of thousands of triangles). Queries visit the triangles in the same order as before,
-    /// so every answer is the same bit for bit.
-    fn store_in_leaf_order(&mut self, order: &[u32]) {
-        fn permuted<T: Copy>(values: &[T], order: &[u32]) -> Vec<T> {
-            order.iter().map(|&t| values[t as usize]).collect()
         }
-        self.corners = permuted(&self.corners, order);
-        self.spheres = permuted(&self.spheres, order);
-        self.face_normals = permuted(&self.face_normals, order);
-        self.plane_normals = permuted(&self.plane_normals, order);
-        self.edge_normals = permuted(&self.edge_normals, order);
-        self.vertex_normals = permuted(&self.vertex_normals, order);
     }
 
     /// Builds the hierarchy for any mesh: the inside is where the generalized winding number
@@ -283,46 +224,6 @@ impl TriangleBvh {
                 top += 2;
             }
         }
-    }
-
-    /// Builds node `index`, at `depth`, around `bounds` (the box of `items`, which start at
-    /// position `start` of the whole build's); leaves refer to positions in the build's order.
-    /// Splits where the surface area heuristic says ([`sah_split`]), at the median of the
-    /// longest axis where it finds no split or the tree is deep.
-    fn build(
-        &mut self,
-        items: &mut [BuildItem],
-        index: usize,
-        start: usize,
-        depth: usize,
-        bounds: Aabb,
-    ) {
-        self.nodes[index].min = Point3::from(bounds.0);
-        self.nodes[index].max = Point3::from(bounds.1);
-        if items.len() <= LEAF_SIZE {
-            self.nodes[index].first = start as u32;
-            self.nodes[index].count = items.len() as u32;
-            return;
-        }
-        let split = (depth < MAX_SAH_DEPTH).then(|| sah_split(items)).flatten();
-        let (mid, left_bounds, right_bounds) = match split {
-            Some(split) => split,
-            None => {
-                let axis = (bounds.1 - bounds.0).imax();
-                let mid = items.len() / 2;
-                items.select_nth_unstable_by(mid, |x, y| x.centre[axis].total_cmp(&y.centre[axis]));
-                (mid, bounds_of(&items[..mid]), bounds_of(&items[mid..]))
-            }
-        };
-        let left = self.nodes.len();
-        let blank = self.nodes[index];
-        self.nodes.push(blank);
-        self.nodes.push(blank);
-        self.nodes[index].first = left as u32;
-        self.nodes[index].count = 0;
-        let (left_items, right_items) = items.split_at_mut(mid);
-        self.build(left_items, left, start, depth + 1, left_bounds);
-        self.build(right_items, left + 1, start + mid, depth + 1, right_bounds);
     }
 
     /// The mesh's bounding box (lower and upper corners).
@@ -566,6 +467,69 @@ impl TriangleBvh {
     }
 }
 
+/// A mesh's pseudo-normals in mesh order (Bærentzen & Aanæs 2005), summed in mesh order so that
+/// every sum is the same bit for bit whatever the tree.
+struct PseudoNormals {
+    /// Each triangle's unit normal (+z for a collapsed triangle).
+    face: Vec<Vec3>,
+    /// Each triangle's edges' pseudo-normals: the sums of the face normals on each edge.
+    edge: Vec<[Vec3; 3]>,
+    /// Each vertex's angle-weighted sum of its triangles' normals, not normalized.
+    vertex_sums: Vec<Vec3>,
+}
+
+impl PseudoNormals {
+    fn new(mesh: &TriangleMesh) -> Self {
+        let n = mesh.triangles.len();
+        let face: Vec<Vec3> = (0..n)
+            .map(|t| {
+                let [a, b, c] = mesh.corners(t);
+                unit_or((b - a).cross(&(c - a)), Vec3::z())
+            })
+            .collect();
+        let mut vertex_sums = vec![Vec3::zeros(); mesh.vertices.len()];
+        for (t, tri) in mesh.triangles.iter().enumerate() {
+            let p = mesh.corners(t);
+            for k in 0..3 {
+                let e1 = (p[(k + 1) % 3] - p[k]).normalize();
+                let e2 = (p[(k + 2) % 3] - p[k]).normalize();
+                let angle = e1.dot(&e2).clamp(-1.0, 1.0).acos();
+                vertex_sums[tri[k] as usize] += face[t] * angle;
+            }
+        }
+        // The triangles' edges (three each) are sorted by their vertex pair, so that an edge's
+        // triangles lie together, in mesh order (a sort, not a map: a third of a
+        // million-triangle setup went to the map).
+        let mut edges: Vec<(u64, usize)> = mesh
+            .triangles
+            .iter()
+            .enumerate()
+            .flat_map(|(t, tri)| {
+                (0..3).map(move |k| {
+                    let (u, v) = (tri[k], tri[(k + 1) % 3]);
+                    ((u64::from(u.min(v)) << 32) | u64::from(u.max(v)), 3 * t + k)
+                })
+            })
+            .collect();
+        edges.sort_unstable();
+        let mut edge = vec![[Vec3::zeros(); 3]; n];
+        for shared in edges.chunk_by(|x, y| x.0 == y.0) {
+            let sum = shared
+                .iter()
+                .fold(Vec3::zeros(), |sum, &(_, slot)| sum + face[slot / 3]);
+            for &(_, slot) in shared {
+                let t = slot / 3;
+                edge[t][slot % 3] = unit_or(sum, face[t]);
+            }
+        }
+        Self {
+            face,
+            edge,
+            vertex_sums,
+        }
+    }
+}
+
 /// A triangle as the tree's build moves it: its centre (the split key), its box and its index.
 /// The build reorders these, not indices into per-triangle arrays, so that each level reads
 /// its range of them in order instead of at random.
@@ -576,14 +540,92 @@ struct BuildItem {
     triangle: u32,
 }
 
+impl BuildItem {
+    fn new([a, b, c]: &[Point3; 3], triangle: u32) -> Self {
+        Self {
+            centre: triangle_centre(a, b, c),
+            bounds: (
+                a.coords.inf(&b.coords).inf(&c.coords),
+                a.coords.sup(&b.coords).sup(&c.coords),
+            ),
+            triangle,
+        }
+    }
+}
+
+/// The centroid of triangle `abc` (the centre of its bounding sphere and its split key).
+fn triangle_centre(a: &Point3, b: &Point3, c: &Point3) -> Vec3 {
+    (a.coords + b.coords + c.coords) / 3.0
+}
+
+/// Builds node `index` of `nodes` (its box already set) at `depth` over `items`, which start at
+/// position `start` of the whole build's, with `centres` the box of their centres: both
+/// children pushed, then the left child's subtree built, then the right's; leaves refer to
+/// positions in the build's order.
+fn build(
+    nodes: &mut Vec<Node>,
+    items: &mut [BuildItem],
+    index: usize,
+    start: usize,
+    depth: usize,
+    centres: Aabb,
+) {
+    if items.len() <= LEAF_SIZE {
+        nodes[index].first = start as u32;
+        nodes[index].count = items.len() as u32;
+        return;
+    }
+    let bounds = (nodes[index].min.coords, nodes[index].max.coords);
+    let (mid, left, right) = split(items, bounds, depth, centres);
+    let first = nodes.len();
+    for (bounds, _) in [left, right] {
+        nodes.push(Node {
+            min: Point3::from(bounds.0),
+            max: Point3::from(bounds.1),
+            first: 0,
+            count: 0,
+        });
+    }
+    nodes[index].first = first as u32;
+    let (left_items, right_items) = items.split_at_mut(mid);
+    build(nodes, left_items, first, start, depth + 1, left.1);
+    build(
+        nodes,
+        right_items,
+        first + 1,
+        start + mid,
+        depth + 1,
+        right.1,
+    );
+}
+
+/// Splits `items` (their box `bounds`, their centres' box `centres`) of a node at `depth`:
+/// where the surface area heuristic says ([`sah_split`]), at the median of the node's longest
+/// axis where it finds no split or the tree is deep. Returns the left side's length and both
+/// sides' boxes.
+fn split(
+    items: &mut [BuildItem],
+    bounds: Aabb,
+    depth: usize,
+    centres: Aabb,
+) -> (usize, BoxPair, BoxPair) {
+    let split = (depth < MAX_SAH_DEPTH)
+        .then(|| sah_split(items, centres))
+        .flatten();
+    split.unwrap_or_else(|| {
+        let axis = (bounds.1 - bounds.0).imax();
+        let mid = items.len() / 2;
+        items.select_nth_unstable_by(mid, |x, y| x.centre[axis].total_cmp(&y.centre[axis]));
+        (mid, boxes_of(&items[..mid]), boxes_of(&items[mid..]))
+    })
+}
+
 /// Where to split `items` by the surface area heuristic: the triangles binned by their
 /// centres along the centres' longest axis, the split between bins that minimizes each side's
 /// box area times its count. Reorders `items` to put the left side first and returns its
-/// length and both sides' boxes, or `None` when every centre falls in one bin.
-fn sah_split(items: &mut [BuildItem]) -> Option<(usize, Aabb, Aabb)> {
-    let (lo, hi) = items.iter().fold(EMPTY_BOX, |(lo, hi), item| {
-        (lo.inf(&item.centre), hi.sup(&item.centre))
-    });
+/// length and both sides' boxes (of their triangles, of their centres), or `None` when every
+/// centre falls in one bin. `(lo, hi)` is the box of the items' centres.
+fn sah_split(items: &mut [BuildItem], (lo, hi): Aabb) -> Option<(usize, BoxPair, BoxPair)> {
     let axis = (hi - lo).imax();
     let extent = hi[axis] - lo[axis];
     if extent.is_nan() || extent <= 0.0 {
@@ -593,11 +635,13 @@ fn sah_split(items: &mut [BuildItem]) -> Option<(usize, Aabb, Aabb)> {
     let bin =
         |item: &BuildItem| (((item.centre[axis] - lo[axis]) * scale) as usize).min(SAH_BINS - 1);
     let mut bins = [EMPTY_BOX; SAH_BINS];
+    let mut bin_centres = [EMPTY_BOX; SAH_BINS];
     let mut counts = [0usize; SAH_BINS];
     for item in items.iter() {
         let k = bin(item);
         counts[k] += 1;
         bins[k] = grown(bins[k], item.bounds);
+        bin_centres[k] = grown(bin_centres[k], (item.centre, item.centre));
     }
     // Half the box's area (the factor 2 is common to every split).
     let area = |(lo, hi): Aabb| {
@@ -630,17 +674,22 @@ fn sah_split(items: &mut [BuildItem]) -> Option<(usize, Aabb, Aabb)> {
             left_len += 1;
         }
     }
-    let side =
-        |range: std::ops::Range<usize>| bins[range].iter().fold(EMPTY_BOX, |a, &b| grown(a, b));
+    let side = |range: std::ops::Range<usize>| {
+        let union = |boxes: &[Aabb]| boxes.iter().fold(EMPTY_BOX, |a, &b| grown(a, b));
+        (union(&bins[range.clone()]), union(&bin_centres[range]))
+    };
     Some((left_len, side(0..split), side(split..SAH_BINS)))
 }
 
-/// The box around the boxes of `items`.
-fn bounds_of(items: &[BuildItem]) -> Aabb {
-    items
-        .iter()
-        .fold(EMPTY_BOX, |b, item| grown(b, item.bounds))
+/// The box around the boxes of `items`, and the box around their centres.
+fn boxes_of(items: &[BuildItem]) -> BoxPair {
+    items.iter().fold((EMPTY_BOX, EMPTY_BOX), |(b, c), item| {
+        (grown(b, item.bounds), grown(c, (item.centre, item.centre)))
+    })
 }
+
+/// A set of triangles' boxes: around the triangles, around their centres.
+type BoxPair = (Aabb, Aabb);
 
 /// An axis-aligned box: its lower and upper corners.
 type Aabb = (Vec3, Vec3);
@@ -654,7 +703,12 @@ const EMPTY_BOX: Aabb = (
 /// The box around boxes `a` and `b`.
 #[inline]
 fn grown(a: Aabb, b: Aabb) -> Aabb {
-    (a.0.inf(&b.0), a.1.sup(&b.1))
+    let lo = |x: f64, y: f64| if y < x { y } else { x };
+    let hi = |x: f64, y: f64| if y > x { y } else { x };
+    (
+        Vec3::new(lo(a.0.x, b.0.x), lo(a.0.y, b.0.y), lo(a.0.z, b.0.z)),
+        Vec3::new(hi(a.1.x, b.1.x), hi(a.1.y, b.1.y), hi(a.1.z, b.1.z)),
+    )
 }
 
 /// `v` normalized, or `fallback` when it has no direction (a collapsed triangle, or normals
