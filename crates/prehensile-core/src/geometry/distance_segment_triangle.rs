@@ -103,9 +103,16 @@ pub fn segment_within_triangle(
     if (sp.abs() <= radius && over(&inward[0])) || (sq.abs() <= radius && over(&inward[1])) {
         return true;
     }
-    closest_segment_segment(p, q, a, b).0 <= r2
-        || closest_segment_segment(p, q, b, c).0 <= r2
-        || closest_segment_segment(p, q, c, a).0 <= r2
+    // At the nearest points x (segment) and y (an edge), x − y lies in the triangle's normal
+    // cone at y, so x is not strictly inside that edge's plane (at a corner, not inside one of
+    // its two edges' planes): an edge with both ends of the segment strictly inside its plane is
+    // never the nearest, and its distance is not needed.
+    [(a, b), (b, c), (c, a)]
+        .into_iter()
+        .enumerate()
+        .any(|(k, (u, v))| {
+            inward[0][k].min(inward[1][k]) <= 0.0 && closest_segment_segment(p, q, u, v).0 <= r2
+        })
 }
 
 /// Where the segment crosses the triangle's plane inside the triangle (boundary included), as a
@@ -188,6 +195,58 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// The edges skipped (both ends inside their planes) on the cases where rounding decides:
+    /// segments in an edge's plane or within 1e-15…1e-9 of it, through corners, along edges,
+    /// at heights around the radius.
+    #[test]
+    fn the_within_test_agrees_along_edges_and_corners() {
+        let mut rng = crate::search::random::SplitMix64::new(5);
+        let mut point = || {
+            Point3::new(
+                rng.uniform(-1.0, 1.0),
+                rng.uniform(-1.0, 1.0),
+                rng.uniform(-1.0, 1.0),
+            )
+        };
+        let mut cases = 0;
+        for _ in 0..3000 {
+            let (a, b, c) = (point(), point(), point());
+            let normal = (b - a).cross(&(c - a)).normalize();
+            for (u, v) in [(a, b), (b, c), (c, a)] {
+                let outward = (v - u).cross(&normal).normalize();
+                for (along, offset, height, length) in [
+                    (0.5, 0.0, 0.1, 0.2),
+                    (0.0, 1e-15, 0.1, 0.05),
+                    (1.0, -1e-15, 0.05, 0.3),
+                    (0.3, 1e-9, -0.1, 0.1),
+                    (0.7, -1e-9, 0.0, 0.2),
+                    (-0.2, 0.0, 0.02, 0.1),
+                    (1.2, 1e-12, 0.2, 0.6),
+                ] {
+                    let at = u + (v - u) * along + outward * offset;
+                    let edge = (v - u).normalize();
+                    for direction in [edge, outward, normal, (edge + normal).normalize()] {
+                        let p = at + normal * height - direction * (0.5 * length);
+                        let q = at + normal * height + direction * (0.5 * length);
+                        let d = distance_squared_segment_triangle(&p, &q, &a, &b, &c).sqrt();
+                        for r in [d * 0.999 - 1e-9, d * 1.001 + 1e-9, d + 1e-6]
+                            .into_iter()
+                            .filter(|&r| r >= 0.0 && (r - d).abs() > 1e-12)
+                        {
+                            cases += 1;
+                            assert_eq!(
+                                segment_within_triangle(&p, &q, &[a, b, c], &normal, r),
+                                d <= r,
+                                "distance {d}, radius {r}, segment {p} {q}, triangle {a} {b} {c}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+        assert!(cases > 200_000, "{cases} cases");
     }
 
     #[test]
