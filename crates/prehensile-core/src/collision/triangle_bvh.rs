@@ -47,6 +47,9 @@ struct Node {
     first: u32,
     /// Triangles in a leaf, 0 for an inner node.
     count: u32,
+    /// Half the box's diagonal (a hair more, for rounding): the radius of the sphere around
+    /// the box's centre through its corners.
+    reach: f64,
 }
 
 /// A bounding-volume hierarchy over a mesh's triangles with the pseudo-normals needed for signed
@@ -88,6 +91,7 @@ impl TriangleBvh {
                     max: Point3::from(bounds.1),
                     first: 0,
                     count: 0,
+                    reach: half_diagonal(&bounds),
                 });
                 build(&mut nodes, &mut items, 0, 0, 0, centres);
                 let order: Vec<usize> = items.iter().map(|item| item.triangle as usize).collect();
@@ -333,7 +337,7 @@ impl TriangleBvh {
         while top > 0 {
             top -= 1;
             let node = self.nodes[stack[top] as usize];
-            if !segment.meets_box(&node.min, &node.max, best) {
+            if !segment.meets_node(&node, best) {
                 continue;
             }
             if node.count > 0 {
@@ -415,7 +419,7 @@ impl TriangleBvh {
         while top > 0 {
             top -= 1;
             let node = self.nodes[stack[top] as usize];
-            if !segment.meets_box(&node.min, &node.max, radius) {
+            if !segment.meets_node(&node, radius) {
                 continue;
             }
             if node.count > 0 {
@@ -584,6 +588,7 @@ fn build(
             max: Point3::from(bounds.1),
             first: 0,
             count: 0,
+            reach: half_diagonal(&bounds),
         });
     }
     nodes[index].first = first as u32;
@@ -694,6 +699,12 @@ type BoxPair = (Aabb, Aabb);
 /// An axis-aligned box: its lower and upper corners.
 type Aabb = (Vec3, Vec3);
 
+/// Half the diagonal of box `b`, rounded up by a relative 1e-12 so that the sphere through its
+/// corners contains them whatever the rounding.
+fn half_diagonal(b: &Aabb) -> f64 {
+    0.5 * (b.1 - b.0).norm() * (1.0 + 1e-12)
+}
+
 /// The box around nothing, which any box grows from.
 const EMPTY_BOX: Aabb = (
     Vec3::new(f64::INFINITY, f64::INFINITY, f64::INFINITY),
@@ -773,6 +784,18 @@ impl QuerySegment {
         let t =
             ((p - self.a).dot(&self.direction) * self.reciprocal_length_squared).clamp(0.0, 1.0);
         (self.a + self.direction * t - p).norm_squared()
+    }
+
+    /// May the capsule of radius `r` around the segment meet the node's triangles? It must meet
+    /// the node's box grown by `r` on every side ([`Self::meets_box`]) and come within `r` of
+    /// the sphere through the box's corners: on a fine mesh a finger's capsule is many times a
+    /// leaf's size, and the grown box's corners, which the sphere cuts off, hold most of the
+    /// leaves the box test alone lets through (on a 15k-triangle can, 60% of the node visits).
+    #[inline]
+    fn meets_node(&self, node: &Node, r: f64) -> bool {
+        let reach = r + node.reach;
+        self.meets_box(&node.min, &node.max, r)
+            && self.distance_squared_to(&nalgebra::center(&node.min, &node.max)) <= reach * reach
     }
 
     /// Does the segment meet the box grown by `r` on every side? (slab test; a superset of "the
@@ -891,6 +914,43 @@ mod tests {
                 .expect("within a metre");
             assert!((near.signed_distance.abs() - d).abs() < 1e-12 || d == 0.0);
         }
+    }
+
+    /// Capsules many times a leaf's size, near a fine mesh, where the nodes' spheres cut off
+    /// most of the leaves the grown boxes let through: the capsule test and the nearest point
+    /// to a segment agree with every triangle, with radii just either side of the distance.
+    #[test]
+    fn capsules_near_a_fine_mesh_agree_with_every_triangle() {
+        let mesh = crate::shapes::torus(0.045, 0.014, 128, 64);
+        let bvh = TriangleBvh::new(&mesh);
+        let mut rng = crate::search::random::SplitMix64::new(17);
+        let mut unit = || {
+            Vec3::new(
+                rng.uniform(-1.0, 1.0),
+                rng.uniform(-1.0, 1.0),
+                rng.uniform(-1.0, 1.0),
+            )
+            .normalize()
+        };
+        let mut touching = 0;
+        for k in 0..200 {
+            let [a, b, c] = mesh.corners(k * 73 % mesh.triangles.len());
+            let on_surface = Point3::from((a.coords + b.coords + c.coords) / 3.0);
+            let p = on_surface + unit() * (0.005 + 0.0001 * (k % 100) as f64);
+            let q = p + unit() * (0.01 + 0.0003 * (k % 100) as f64);
+            let d = bvh.segment_distance(&p, &q);
+            for r in [0.999 * d, 1.001 * d + 1e-12] {
+                let within = bvh.segment_within(&p, &q, r);
+                assert_eq!(within, d <= r, "radius {r}, distance {d}");
+                touching += usize::from(within);
+            }
+            if let Some((_, near)) = bvh.closest_point_to_segment_within(&p, &q, 0.03) {
+                assert!((near.signed_distance.abs() - d).abs() < 1e-12 || d == 0.0);
+            } else {
+                assert!(d > 0.03, "distance {d} within the bound, not found");
+            }
+        }
+        assert!(touching > 100, "{touching} touching");
     }
 
     /// Nor may the capsule test: a capsule 0.1 from the collapsed triangle's line but 2 from the
