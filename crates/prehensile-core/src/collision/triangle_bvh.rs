@@ -52,6 +52,19 @@ struct Node {
     reach: f64,
 }
 
+impl Node {
+    /// A node around box `bounds`, its children or triangles not set yet.
+    fn around(bounds: &Aabb) -> Self {
+        Self {
+            min: Point3::from(bounds.0),
+            max: Point3::from(bounds.1),
+            first: 0,
+            count: 0,
+            reach: half_diagonal(bounds),
+        }
+    }
+}
+
 /// A bounding-volume hierarchy over a mesh's triangles with the pseudo-normals needed for signed
 /// distances.
 #[derive(Debug, Clone)]
@@ -86,13 +99,7 @@ impl TriangleBvh {
                     .collect();
                 let (bounds, centres) = boxes_of(&items);
                 let mut nodes = Vec::with_capacity(2 * items.len() / LEAF_SIZE + 1);
-                nodes.push(Node {
-                    min: Point3::from(bounds.0),
-                    max: Point3::from(bounds.1),
-                    first: 0,
-                    count: 0,
-                    reach: half_diagonal(&bounds),
-                });
+                nodes.push(Node::around(&bounds));
                 build(&mut nodes, &mut items, 0, 0, 0, centres);
                 let order: Vec<usize> = items.iter().map(|item| item.triangle as usize).collect();
                 (nodes, order)
@@ -582,15 +589,8 @@ fn build(
     let bounds = (nodes[index].min.coords, nodes[index].max.coords);
     let (mid, left, right) = split(items, bounds, depth, centres);
     let first = nodes.len();
-    for (bounds, _) in [left, right] {
-        nodes.push(Node {
-            min: Point3::from(bounds.0),
-            max: Point3::from(bounds.1),
-            first: 0,
-            count: 0,
-            reach: half_diagonal(&bounds),
-        });
-    }
+    nodes.push(Node::around(&left.0));
+    nodes.push(Node::around(&right.0));
     nodes[index].first = first as u32;
     let (left_items, right_items) = items.split_at_mut(mid);
     build(nodes, left_items, first, start, depth + 1, left.1);
