@@ -13,9 +13,9 @@ fn main() {
         let start = std::time::Instant::now();
         let object = ObjectModel::new("torus", mesh.clone(), None).unwrap();
         eprintln!(
-            "{} triangles set up in {:.3} s",
+            "{} triangles set up in {:.2} ms",
             object.mesh().triangles.len(),
-            start.elapsed().as_secs_f64()
+            start.elapsed().as_secs_f64() * 1e3
         );
     }
 }

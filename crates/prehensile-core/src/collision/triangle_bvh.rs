@@ -492,20 +492,17 @@ struct PseudoNormals {
 impl PseudoNormals {
     fn new(mesh: &TriangleMesh) -> Self {
         let n = mesh.triangles.len();
-        let face: Vec<Vec3> = (0..n)
-            .map(|t| {
-                let [a, b, c] = mesh.corners(t);
-                unit_or((b - a).cross(&(c - a)), Vec3::z())
-            })
-            .collect();
+        let mut face = Vec::with_capacity(n);
         let mut vertex_sums = vec![Vec3::zeros(); mesh.vertices.len()];
         for (t, tri) in mesh.triangles.iter().enumerate() {
             let p = mesh.corners(t);
+            let normal = unit_or((p[1] - p[0]).cross(&(p[2] - p[0])), Vec3::z());
+            face.push(normal);
             for k in 0..3 {
                 let e1 = (p[(k + 1) % 3] - p[k]).normalize();
                 let e2 = (p[(k + 2) % 3] - p[k]).normalize();
                 let angle = e1.dot(&e2).clamp(-1.0, 1.0).acos();
-                vertex_sums[tri[k] as usize] += face[t] * angle;
+                vertex_sums[tri[k] as usize] += normal * angle;
             }
         }
         // The triangles' edges (three each) are sorted by their vertex pair, so that an edge's
