@@ -133,22 +133,12 @@ pub fn up_axis(s: &str) -> Result<Vec3, CliError> {
 /// Runs `prehensile grasp`.
 pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
     let setup = Instant::now();
-    // The hand (an imported one takes milliseconds to derive its movements) is read while the
-    // object is set up; a hand that fails is reported first, as if read first.
-    let (hand, object) = std::thread::scope(|scope| {
-        let hand = scope.spawn(|| sources::hand(&args.hand));
-        let object = sources::object(
-            &args.object,
-            args.mesh_options.factor(),
-            args.mesh_options.weld,
-        );
-        let hand = hand
-            .join()
-            .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
-        (hand, object)
-    });
-    let hand = hand?;
-    let mut object = object?;
+    let hand = sources::hand(&args.hand)?;
+    let mut object = sources::object(
+        &args.object,
+        args.mesh_options.factor(),
+        args.mesh_options.weld,
+    )?;
     if let Some(h) = args.hook {
         object = object.with_hooks(vec![Point3::from(h)])?;
     }
