@@ -611,10 +611,10 @@ fn split(
     depth: usize,
     centres: Aabb,
 ) -> (usize, BoxPair, BoxPair) {
-    let split = (depth < MAX_SAH_DEPTH)
+    let by_area = (depth < MAX_SAH_DEPTH)
         .then(|| sah_split(items, centres))
         .flatten();
-    split.unwrap_or_else(|| {
+    by_area.unwrap_or_else(|| {
         let axis = (bounds.1 - bounds.0).imax();
         let mid = items.len() / 2;
         items.select_nth_unstable_by(mid, |x, y| x.centre[axis].total_cmp(&y.centre[axis]));
