@@ -112,12 +112,21 @@ impl SignedDistanceGrid {
     }
 
     /// The exact signed distance at node `idx`, filled now if it was not.
+    #[inline]
     fn node_value(&self, exact: &TriangleBvh, idx: [usize; 3]) -> f32 {
         let slot = &self.values[(idx[2] * self.dims[1] + idx[1]) * self.dims[0] + idx[0]];
         let bits = slot.load(Ordering::Relaxed);
         if bits != UNFILLED {
             return f32::from_bits(bits);
         }
+        self.fill(exact, idx, slot)
+    }
+
+    /// Fills node `idx`, whose value lives in `slot`: the first read of a node, kept out of
+    /// line so that the many reads of filled nodes stay short.
+    #[cold]
+    #[inline(never)]
+    fn fill(&self, exact: &TriangleBvh, idx: [usize; 3], slot: &AtomicU32) -> f32 {
         let node =
             self.origin + Vec3::new(idx[0] as f64, idx[1] as f64, idx[2] as f64) * self.spacing;
         let value = match exact.closest_point_within(&node, self.band) {
@@ -154,16 +163,8 @@ impl SignedDistanceGrid {
         }
         let band = self.band as f32;
         let mut corner = [0.0f64; 8];
-        let base = (cell[2] * self.dims[1] + cell[1]) * self.dims[0] + cell[0];
-        let layer = self.dims[0] * self.dims[1];
         for (k, value) in corner.iter_mut().enumerate() {
-            let at = base + (k & 1) + (k >> 1 & 1) * self.dims[0] + (k >> 2) * layer;
-            let bits = self.values[at].load(Ordering::Relaxed);
-            let v = if bits != UNFILLED {
-                f32::from_bits(bits)
-            } else {
-                self.node_value(exact, [0, 1, 2].map(|i| cell[i] + (k >> i & 1)))
-            };
+            let v = self.node_value(exact, [0, 1, 2].map(|i| cell[i] + (k >> i & 1)));
             if v.abs() >= band {
                 return None;
             }
@@ -192,13 +193,16 @@ impl SignedDistanceGrid {
         let mut offset = Vec3::zeros();
         for i in 0..3 {
             // The nearest node: ⌊x + ½⌋ by truncation, which is cheaper than `f64::round` (a libm
-            // call without SSE4.1). NaN fails the first test.
+            // call without SSE4.1). NaN fails the first test. A grid has at most 65 nodes a side,
+            // so the conversions go through `i32`: one instruction each, where `usize`'s take
+            // several (x86-64 has no unsigned conversions before AVX-512).
             let shifted = (p[i] - self.origin[i]) / self.spacing + 0.5;
-            if !(shifted >= 0.0 && shifted < self.dims[i] as f64) {
+            if !(shifted >= 0.0 && shifted < f64::from(self.dims[i] as i32)) {
                 return None;
             }
-            idx[i] = shifted as usize;
-            offset[i] = p[i] - (self.origin[i] + idx[i] as f64 * self.spacing);
+            let node = shifted as i32;
+            idx[i] = node as usize;
+            offset[i] = p[i] - (self.origin[i] + f64::from(node) * self.spacing);
         }
         let v = self.node_value(exact, idx) as f64;
         // Stored as f32: widen by the rounding error of the value. Values at or beyond the band
