@@ -7,7 +7,7 @@
 use std::ops::Range;
 
 use crate::collision::Capsule;
-use crate::hand::HandModel;
+use crate::hand::{Finger, HandModel};
 use crate::math::Transform;
 use crate::movement::GraspMovement;
 use crate::object::ObjectModel;
@@ -178,10 +178,8 @@ fn stop_coupled_followers(
                 ws,
             );
             ws.reached[follower] = ws.reached[leader];
-            let is_chain = leader < follower
-                && (leader + 1..=follower).all(|k| hand.chain_predecessor(k) == Some(k - 1));
             if at_follower >= at_leader
-                || !is_chain
+                || !leads_its_chain(hand, leader, follower)
                 || !group_touches(hand, object, follower..finger_end, ws)
             {
                 continue;
@@ -208,6 +206,22 @@ fn stop_coupled_followers(
             return stopped;
         }
     }
+}
+
+/// Is bone `leader` an ancestor of bone `follower` along one chain, so that
+/// [`stop_coupled_followers`] finds their contact together?
+fn leads_its_chain(hand: &HandModel, leader: usize, follower: usize) -> bool {
+    leader < follower && (leader + 1..=follower).all(|k| hand.chain_predecessor(k) == Some(k - 1))
+}
+
+/// Does finger closing check every pose it leaves `finger` in for contact? Not when a bone of
+/// the finger follows a rigid coupling's leader outside its chain: [`stop_coupled_followers`]
+/// moves it to the leader's fraction without asking whether it touches.
+pub fn closes_checked(hand: &HandModel, finger: &Finger) -> bool {
+    hand.couplings().iter().filter(|c| c.rigid).all(|c| {
+        let (leader, follower) = (hand.bone_of_dof(c.leader), hand.bone_of_dof(c.follower));
+        !finger.bones.contains(&follower) || leads_its_chain(hand, leader, follower)
+    })
 }
 
 /// Moves bone `b` to fraction `f` of the movement and updates its world transform from its

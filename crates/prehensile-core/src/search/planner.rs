@@ -21,7 +21,9 @@ use crate::workspace::Workspace;
 use super::initial_approximation::InitialApproximation;
 use super::material_hook::material_hook;
 use super::optimization_step::{step_candidates, StepKind};
-use super::quality::{Evaluation, EvaluationContext, Invalid, QualityWeights, ValidityRule};
+use super::quality::{
+    hook_depth, Evaluation, EvaluationContext, Invalid, QualityWeights, ValidityRule,
+};
 use super::random::SplitMix64;
 use super::start_position::{nearest_hook, start_rotation};
 use super::translate_to_free::TranslateMode;
@@ -371,6 +373,7 @@ impl<'a> GraspPlanner<'a> {
             object,
             movement,
             hook,
+            hook_depth: hook_depth(object, &hook),
             hang_shift: 0.0,
             shoulder,
             start,
@@ -545,7 +548,7 @@ impl<'a> GraspPlanner<'a> {
         let height = self.ctx.movement.grasp_center().y;
         let nearer = SECOND_HANG_NEARER * height;
         if let Some((hook, start)) = material {
-            self.ctx.hook = hook;
+            self.ctx.set_hook(hook);
             self.ctx.start = start;
             self.reach_direction = horizontal(&(hook - self.ctx.shoulder), &self.params.up);
             self.stats.hook_moves += 1;
@@ -781,15 +784,34 @@ impl<'a> GraspPlanner<'a> {
         true
     }
 
+    /// The quality a candidate of this step must exceed to change anything, for
+    /// [`EvaluationContext::evaluate_pose_to_beat`]: when the current pose and the best are
+    /// valid and rank first by validity ([`EvaluationContext::walk_rank`] and
+    /// [`EvaluationContext::rank`]), a candidate replaces either only with a higher quality, so
+    /// one at most the lower of theirs changes nothing; else −∞.
+    fn bar_to_beat(&self) -> f64 {
+        let first = |e: &Evaluation| e.validity.is_ok() && self.ctx.pushes_from_every_side(e);
+        match &self.best_valid {
+            Some(best) if first(&self.current) && first(best) => {
+                self.current.quality.min(best.quality)
+            }
+            _ => f64::NEG_INFINITY,
+        }
+    }
+
     /// Evaluates candidates `from..to` of the step in progress into `results`.
     fn evaluate_candidates(&mut self, from: usize, to: usize) {
         let lazy = self.defers_stability();
+        let bar = self.bar_to_beat();
         let ctx = &self.ctx;
         let evaluate = |r: &Rotation, ws: &mut Workspace, capsules: &mut Vec<Capsule>| {
+            let mut e = ctx.evaluate_pose_to_beat(r, ws, bar);
             if !lazy {
-                return ctx.evaluate(r, ws);
+                if ctx.stability_pending(&e) {
+                    ctx.judge_stability(&mut e, ws);
+                }
+                return e;
             }
-            let e = ctx.evaluate_pose(r, ws);
             if ctx.stability_pending(&e) {
                 capsules.clone_from(&ws.capsules);
             }
@@ -876,7 +898,7 @@ impl<'a> GraspPlanner<'a> {
         let pending = self.restarting.is_some();
         let turned = direction.dot(&self.reach_direction).clamp(-1.0, 1.0).acos();
         if turned > self.params.restart_angle {
-            self.ctx.hook = self.first_hook;
+            self.ctx.set_hook(self.first_hook);
             self.ctx.start = first_start;
             self.reach_direction = horizontal(&(self.first_hook - shoulder), &self.params.up);
             self.ctx.hang_shift = 0.0;

@@ -17,6 +17,9 @@ use super::wrist_range::WristRange;
 
 /// Distance within which a capsule counts as touching, and depth beyond which it penetrates.
 pub const CONTACT_TOLERANCE: f64 = 0.001;
+/// How much a quality bound is loosened against rounding before it stops an evaluation
+/// ([`EvaluationContext::evaluate_pose_to_beat`]); qualities are sums of a few metres.
+const BOUND_MARGIN: f64 = 1e-9;
 
 /// Smallest angle between the thumb's and the index's pad normals in a precision grasp (120°).
 pub const OPPOSITION_ANGLE: f64 = 2.0 * std::f64::consts::FRAC_PI_3;
@@ -260,12 +263,19 @@ pub enum Invalid {
         /// Angle between their pad normals, degrees.
         angle_degrees: f64,
     },
+    /// Not evaluated to the end: its back-off already bounded its quality below the pose it
+    /// had to beat ([`EvaluationContext::evaluate_pose_to_beat`]).
+    Outranked,
 }
 
 impl std::fmt::Display for Invalid {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             Invalid::NotEvaluated => write!(f, "the search has not evaluated a pose yet"),
+            Invalid::Outranked => write!(
+                f,
+                "its quality could not beat the search's current pose (evaluation stopped early)"
+            ),
             Invalid::OutsideWristRange => write!(f, "the hand would leave the wrist's range"),
             Invalid::NotFreed { max_offset } => {
                 write!(
@@ -351,6 +361,10 @@ pub struct EvaluationContext<'a> {
     pub movement: &'a GraspMovement,
     /// The hook point, world.
     pub hook: Point3,
+    /// How deep the hook lies inside the object, metres ([`hook_depth`]; 0 outside it). Every
+    /// point outside the object is at least this far from the hook. Kept with `hook` by
+    /// [`EvaluationContext::set_hook`].
+    pub hook_depth: f64,
     /// How much nearer the palm than the movement's grasp center the hand hangs from the hook,
     /// metres: 0, or in a search's second hang more (nearer) or less (farther out)
     /// ([`crate::search::GraspPlanner`]).
@@ -380,7 +394,78 @@ pub struct EvaluationContext<'a> {
     pub torque_scale: f64,
 }
 
+/// How deep `hook` lies inside the object, metres: its distance to the surface when inside, 0
+/// outside, and 0 where the inside comes from winding numbers (an open mesh's inside also ends
+/// across its holes, away from any triangle, so the surface does not bound the way out).
+pub fn hook_depth(object: &ObjectModel, hook: &Point3) -> f64 {
+    let exact = object.collider().exact();
+    if exact.uses_winding_numbers() {
+        return 0.0;
+    }
+    // NaN (no answer) counts as outside: `max` keeps the 0.
+    (-exact.signed_distance(hook)).max(0.0)
+}
+
 impl EvaluationContext<'_> {
+    /// Moves the hook to `hook` (world), with its depth.
+    pub fn set_hook(&mut self, hook: Point3) {
+        self.hook = hook;
+        self.hook_depth = hook_depth(self.object, &hook);
+    }
+
+    /// A lower bound on the fDist of every valid pose from this hook, metres. Each finger adds
+    /// the distance of its first-contact point (Alg. 7; [`EvaluationContext::terms`]) from the
+    /// hook: the end of the last capsule of the finger's last bone among those that reached the
+    /// fewest interpolations. That bone has capsules when the finger's last bone has: a bone
+    /// stops with a touching bone after it or at the end, and ties go to the later bone (only
+    /// a rigid coupling's follower takes another bone's count, so it must have capsules too).
+    /// In a valid pose the point is outside the object and at least the capsule's radius less
+    /// [`CONTACT_TOLERANCE`] from the surface, so the way to it from a hook `hook_depth` deep
+    /// crosses the surface and is at least their sum long. A finger that finger closing may
+    /// leave unchecked ([`crate::finger_closing::closes_checked`]) adds nothing. Tested against
+    /// the fDist of valid poses (`the_fdist_floor_bounds_every_valid_pose`).
+    pub fn fdist_floor(&self) -> f64 {
+        if self.hook_depth <= 0.0 {
+            return 0.0;
+        }
+        let hand = self.hand;
+        let followers = || {
+            hand.couplings()
+                .iter()
+                .filter(|c| c.rigid)
+                .map(|c| hand.bone_of_dof(c.follower))
+        };
+        hand.fingers()
+            .iter()
+            .map(|finger| {
+                let has_capsules = |b: usize| !hand.bone_capsules(b).is_empty();
+                let last = *finger.bones.last().expect("fingers have bones");
+                if !has_capsules(last)
+                    || followers().any(|b| finger.bones.contains(&b) && !has_capsules(b))
+                    || !crate::finger_closing::closes_checked(hand, finger)
+                {
+                    return 0.0;
+                }
+                let thinnest = finger
+                    .bones
+                    .iter()
+                    .flat_map(|&b| hand.bone_capsules(b))
+                    .map(|c| c.radius)
+                    .fold(f64::INFINITY, f64::min);
+                (self.hook_depth + thinnest - CONTACT_TOLERANCE).max(0.0)
+            })
+            .sum()
+    }
+
+    /// Where the wrist is with the hand hung from `hook` backed off `offset`, as finger
+    /// closing places it.
+    fn wrist(&self, hook: &Transform, offset: f64) -> Point3 {
+        let root = hand_root(hook, self.movement, offset);
+        let palm = &self.hand.bones()[0];
+        let local = palm.rest
+            * Transform::from_parts(Default::default(), self.movement.rotation_at(0, 0.0));
+        (root * local).translation.vector.into()
+    }
     /// Hook transform for a rotation: at the hook, moved [`EvaluationContext::hang_shift`]
     /// along its +y (toward the palm, which faces +y) so that the hand hangs that much nearer
     /// its palm. An evaluation's `offset` is measured from here; a result reports it less the
@@ -406,6 +491,25 @@ impl EvaluationContext<'_> {
     /// [`EvaluationContext::judge_stability`] to finish from its world capsules. Its quality is
     /// final when the stability weight is 0.
     pub fn evaluate_pose(&self, rotation: &Rotation, ws: &mut Workspace) -> Evaluation {
+        self.evaluate_pose_to_beat(rotation, ws, f64::NEG_INFINITY)
+    }
+
+    /// [`EvaluationContext::evaluate_pose`] for a pose that counts only with a quality above
+    /// `bar` (a search's step, whose current and best poses are valid and rank first). Beyond
+    /// the thesis, a bound stops it early, as [`Invalid::Outranked`] with quality −∞, once its
+    /// quality cannot exceed `bar`: the quality is at most −(g·gDist + w·wDist + f·fDist
+    /// floor) ([`EvaluationContext::fdist_floor`]; tDist* ≥ 0), known after TranslateToFree, and
+    /// since backing off by δ moves the wrist by δ, TranslateToFree gives up at the back-off
+    /// where even that bound falls to `bar`. Finger closing, most of an evaluation, is skipped
+    /// for every pose that could not have changed the search. Only when the stability term's
+    /// weight is 0 and the others are not negative; else, as for `bar` = −∞, the whole pose is
+    /// evaluated.
+    pub fn evaluate_pose_to_beat(
+        &self,
+        rotation: &Rotation,
+        ws: &mut Workspace,
+        bar: f64,
+    ) -> Evaluation {
         let mut eval = Evaluation {
             rotation: *rotation,
             quality: f64::NEG_INFINITY,
@@ -421,6 +525,25 @@ impl EvaluationContext<'_> {
             return eval;
         }
         let hook = self.hook_frame(rotation);
+        let w = &self.weights;
+        let bounded = bar > f64::NEG_INFINITY
+            && w.stability == 0.0
+            && [w.gdist, w.fdist, w.tdist, w.wdist]
+                .iter()
+                .all(|&k| k >= 0.0);
+        // The quality bound less the back-off's and the wrist's terms, loosened by a margin so
+        // that rounding never prunes a pose whose quality is `bar` to the last bits.
+        let rest = if bounded {
+            BOUND_MARGIN - w.fdist * self.fdist_floor()
+        } else {
+            f64::INFINITY
+        };
+        let give_up_at = if bounded && w.gdist > w.wdist {
+            let wrist = (self.wrist(&hook, 0.0) - self.shoulder).norm();
+            (rest - w.wdist * wrist - bar) / (w.gdist - w.wdist) + BOUND_MARGIN
+        } else {
+            f64::INFINITY
+        };
         let Some(offset) = translate_to_free(
             self.hand,
             self.object,
@@ -428,14 +551,25 @@ impl EvaluationContext<'_> {
             &hook,
             self.translate,
             self.max_offset,
-            f64::INFINITY,
+            give_up_at,
             ws,
         ) else {
-            eval.validity = Err(Invalid::NotFreed {
-                max_offset: self.max_offset,
+            eval.validity = Err(if give_up_at < f64::INFINITY {
+                Invalid::Outranked
+            } else {
+                Invalid::NotFreed {
+                    max_offset: self.max_offset,
+                }
             });
             return eval;
         };
+        if bounded {
+            let wrist = (self.wrist(&hook, offset) - self.shoulder).norm();
+            if rest - w.gdist * offset - w.wdist * wrist < bar {
+                eval.validity = Err(Invalid::Outranked);
+                return eval;
+            }
+        }
         eval.offset = offset;
         let root = hand_root(&hook, self.movement, offset);
         let outcome = close_fingers(

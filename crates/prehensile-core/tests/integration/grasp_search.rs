@@ -1221,3 +1221,75 @@ fn the_default_rule_walks_as_strict_does_and_keeps_one_sided_grasps_in_reserve()
     }
     assert_eq!(same, 4);
 }
+
+#[test]
+fn the_fdist_floor_bounds_every_valid_pose() {
+    // The bound that stops a step's candidates early (`evaluate_pose_to_beat`): every pose
+    // valid so far has an fDist at least the floor, and a pose is stopped only when its quality
+    // is at most the bar it was given. Hook rotations scattered around the start, human and
+    // Shadow hands, power grasps of objects whose hook lies inside them.
+    let shadow = prehensile_formats::load_hand_mjcf(&common::repo_path(
+        "assets/hands/shadow_hand/reach.xml",
+    ))
+    .unwrap();
+    let objects = [
+        common::object("sphere"),
+        common::object("cylinder"),
+        common::object("box"),
+        fixture("robosuite_can.obj", 1.0),
+        fixture("robosuite_bread.stl", 1.0),
+    ];
+    let mut state = 0x9e37_79b9_7f4a_7c15u64;
+    let mut uniform = move || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for hand in [common::hand("human"), shadow] {
+        let movement = hand.movement("power").unwrap();
+        let (mut valid, mut stopped) = (0, 0);
+        for object in &objects {
+            let shoulder = Point3::from(SHOULDERS[0]);
+            let planner =
+                GraspPlanner::new(&hand, object, movement, shoulder, SearchParams::default())
+                    .unwrap();
+            let ctx = *planner.context();
+            let floor = ctx.fdist_floor();
+            assert!(floor > 0.0, "{}: the hook lies inside", object.name());
+            let mut ws = Workspace::new(&hand);
+            for _ in 0..60 {
+                let axis = Vec3::new(uniform() - 0.5, uniform() - 0.5, uniform() - 0.5);
+                let turn = Rotation::from_scaled_axis(axis.normalize() * uniform());
+                let rotation = ctx.start * turn;
+                let e = ctx.evaluate_pose(&rotation, &mut ws);
+                if e.validity.is_err() {
+                    continue;
+                }
+                valid += 1;
+                assert!(
+                    e.terms.fdist >= floor,
+                    "{} {}: fDist {} below the floor {floor}",
+                    hand.name(),
+                    object.name(),
+                    e.terms.fdist
+                );
+                // Just below its quality the pose counts and is evaluated to the end, with
+                // the same outcome; well above, the bound may stop it.
+                let below = ctx.evaluate_pose_to_beat(&rotation, &mut ws, e.quality - 1e-7);
+                assert_eq!(below.quality, e.quality);
+                assert_eq!(below.validity, e.validity);
+                let above = ctx.evaluate_pose_to_beat(&rotation, &mut ws, e.quality + 0.2);
+                if above.validity == Err(prehensile_core::search::Invalid::Outranked) {
+                    stopped += 1;
+                }
+            }
+        }
+        assert!(valid >= 40, "{}: only {valid} valid poses", hand.name());
+        assert!(
+            stopped >= valid / 2,
+            "{}: {stopped} of {valid} stopped",
+            hand.name()
+        );
+    }
+}
