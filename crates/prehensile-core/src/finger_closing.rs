@@ -215,8 +215,8 @@ fn leads_its_chain(hand: &HandModel, leader: usize, follower: usize) -> bool {
 }
 
 /// Does finger closing check every pose it leaves `finger` in for contact? Not when a bone of
-/// the finger follows a rigid coupling's leader outside its chain: [`stop_coupled_followers`]
-/// moves it to the leader's fraction without asking whether it touches.
+/// the finger follows a rigid coupling's leader outside its chain: when the leader stops,
+/// closing moves such a bone to the leader's fraction without asking whether it touches.
 pub fn closes_checked(hand: &HandModel, finger: &Finger) -> bool {
     hand.couplings().iter().filter(|c| c.rigid).all(|c| {
         let (leader, follower) = (hand.bone_of_dof(c.leader), hand.bone_of_dof(c.follower));

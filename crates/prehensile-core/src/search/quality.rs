@@ -414,9 +414,8 @@ impl EvaluationContext<'_> {
     }
 
     /// A lower bound on the fDist of every valid pose from this hook, metres. Each finger adds
-    /// the distance of its first-contact point (Alg. 7; [`EvaluationContext::terms`]) from the
-    /// hook: the end of the last capsule of the finger's last bone among those that reached the
-    /// fewest interpolations. That bone has capsules when the finger's last bone has: a bone
+    /// the distance of its first-contact point (Alg. 7) from the hook: the end of the last
+    /// capsule of the finger's last bone among those that reached the fewest interpolations. That bone has capsules when the finger's last bone has: a bone
     /// stops with a touching bone after it or at the end, and ties go to the later bone (only
     /// a rigid coupling's follower takes another bone's count, so it must have capsules too).
     /// In a valid pose the point is outside the object and at least the capsule's radius less
