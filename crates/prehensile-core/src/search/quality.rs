@@ -361,10 +361,11 @@ pub struct EvaluationContext<'a> {
     pub movement: &'a GraspMovement,
     /// The hook point, world.
     pub hook: Point3,
-    /// How deep the hook lies inside the object, metres ([`hook_depth`]; 0 outside it). Every
-    /// point outside the object is at least this far from the hook. Kept with `hook` by
+    /// A lower bound on the fDist of every valid pose from this hook, metres ([`fdist_floor`]),
+    /// computed once per hook for the step's bound
+    /// ([`EvaluationContext::evaluate_pose_to_beat`]). Kept with `hook` by
     /// [`EvaluationContext::set_hook`].
-    pub hook_depth: f64,
+    pub fdist_floor: f64,
     /// How much nearer the palm than the movement's grasp center the hand hangs from the hook,
     /// metres: 0, or in a search's second hang more (nearer) or less (farther out)
     /// ([`crate::search::GraspPlanner`]).
@@ -397,7 +398,7 @@ pub struct EvaluationContext<'a> {
 /// How deep `hook` lies inside the object, metres: its distance to the surface when inside, 0
 /// outside, and 0 where the inside comes from winding numbers (an open mesh's inside also ends
 /// across its holes, away from any triangle, so the surface does not bound the way out).
-pub fn hook_depth(object: &ObjectModel, hook: &Point3) -> f64 {
+fn hook_depth(object: &ObjectModel, hook: &Point3) -> f64 {
     let exact = object.collider().exact();
     if exact.uses_winding_numbers() {
         return 0.0;
@@ -406,54 +407,55 @@ pub fn hook_depth(object: &ObjectModel, hook: &Point3) -> f64 {
     (-exact.signed_distance(hook)).max(0.0)
 }
 
+/// A lower bound on the fDist of every valid pose of `hand` hung from `hook`, metres. Each
+/// finger adds the distance of its first-contact point (Alg. 7) from the hook: the end of the
+/// last capsule of the finger's last bone among those that reached the fewest interpolations.
+/// That bone has capsules when the finger's last bone has: a bone stops with a touching bone
+/// after it or at the end, and ties go to the later bone (only a rigid coupling's follower
+/// takes another bone's count, so it must have capsules too). In a valid pose the point is
+/// outside the object and at least the capsule's radius less [`CONTACT_TOLERANCE`] from the
+/// surface, so the way to it from a hook that deep inside the object crosses the surface and is at
+/// least their sum long. A finger that finger closing may leave unchecked
+/// ([`crate::finger_closing::closes_checked`]) adds nothing. Tested against the fDist of valid
+/// poses (`the_fdist_floor_bounds_every_valid_pose`).
+pub fn fdist_floor(hand: &HandModel, object: &ObjectModel, hook: &Point3) -> f64 {
+    let depth = hook_depth(object, hook);
+    if depth <= 0.0 {
+        return 0.0;
+    }
+    let followers = || {
+        hand.couplings()
+            .iter()
+            .filter(|c| c.rigid)
+            .map(|c| hand.bone_of_dof(c.follower))
+    };
+    hand.fingers()
+        .iter()
+        .map(|finger| {
+            let has_capsules = |b: usize| !hand.bone_capsules(b).is_empty();
+            let last = *finger.bones.last().expect("fingers have bones");
+            if !has_capsules(last)
+                || followers().any(|b| finger.bones.contains(&b) && !has_capsules(b))
+                || !crate::finger_closing::closes_checked(hand, finger)
+            {
+                return 0.0;
+            }
+            let thinnest = finger
+                .bones
+                .iter()
+                .flat_map(|&b| hand.bone_capsules(b))
+                .map(|c| c.radius)
+                .fold(f64::INFINITY, f64::min);
+            (depth + thinnest - CONTACT_TOLERANCE).max(0.0)
+        })
+        .sum()
+}
+
 impl EvaluationContext<'_> {
-    /// Moves the hook to `hook` (world), with its depth.
+    /// Moves the hook to `hook` (world), with its fDist floor.
     pub fn set_hook(&mut self, hook: Point3) {
         self.hook = hook;
-        self.hook_depth = hook_depth(self.object, &hook);
-    }
-
-    /// A lower bound on the fDist of every valid pose from this hook, metres. Each finger adds
-    /// the distance of its first-contact point (Alg. 7) from the hook: the end of the last
-    /// capsule of the finger's last bone among those that reached the fewest interpolations. That bone has capsules when the finger's last bone has: a bone
-    /// stops with a touching bone after it or at the end, and ties go to the later bone (only
-    /// a rigid coupling's follower takes another bone's count, so it must have capsules too).
-    /// In a valid pose the point is outside the object and at least the capsule's radius less
-    /// [`CONTACT_TOLERANCE`] from the surface, so the way to it from a hook `hook_depth` deep
-    /// crosses the surface and is at least their sum long. A finger that finger closing may
-    /// leave unchecked ([`crate::finger_closing::closes_checked`]) adds nothing. Tested against
-    /// the fDist of valid poses (`the_fdist_floor_bounds_every_valid_pose`).
-    pub fn fdist_floor(&self) -> f64 {
-        if self.hook_depth <= 0.0 {
-            return 0.0;
-        }
-        let hand = self.hand;
-        let followers = || {
-            hand.couplings()
-                .iter()
-                .filter(|c| c.rigid)
-                .map(|c| hand.bone_of_dof(c.follower))
-        };
-        hand.fingers()
-            .iter()
-            .map(|finger| {
-                let has_capsules = |b: usize| !hand.bone_capsules(b).is_empty();
-                let last = *finger.bones.last().expect("fingers have bones");
-                if !has_capsules(last)
-                    || followers().any(|b| finger.bones.contains(&b) && !has_capsules(b))
-                    || !crate::finger_closing::closes_checked(hand, finger)
-                {
-                    return 0.0;
-                }
-                let thinnest = finger
-                    .bones
-                    .iter()
-                    .flat_map(|&b| hand.bone_capsules(b))
-                    .map(|c| c.radius)
-                    .fold(f64::INFINITY, f64::min);
-                (self.hook_depth + thinnest - CONTACT_TOLERANCE).max(0.0)
-            })
-            .sum()
+        self.fdist_floor = fdist_floor(self.hand, self.object, &hook);
     }
 
     /// Where the wrist is with the hand hung from `hook` backed off `offset`, as finger
@@ -465,6 +467,7 @@ impl EvaluationContext<'_> {
             * Transform::from_parts(Default::default(), self.movement.rotation_at(0, 0.0));
         (root * local).translation.vector.into()
     }
+
     /// Hook transform for a rotation: at the hook, moved [`EvaluationContext::hang_shift`]
     /// along its +y (toward the palm, which faces +y) so that the hand hangs that much nearer
     /// its palm. An evaluation's `offset` is measured from here; a result reports it less the
@@ -497,7 +500,7 @@ impl EvaluationContext<'_> {
     /// `bar` (a search's step, whose current and best poses are valid and rank first). Beyond
     /// the thesis, a bound stops it early, as [`Invalid::Outranked`] with quality −∞, once its
     /// quality cannot exceed `bar`: the quality is at most −(g·gDist + w·wDist + f·fDist
-    /// floor) ([`EvaluationContext::fdist_floor`]; tDist* ≥ 0), known after TranslateToFree, and
+    /// floor) ([`fdist_floor`]; tDist* ≥ 0), known after TranslateToFree, and
     /// since backing off by δ moves the wrist by δ, TranslateToFree gives up at the back-off
     /// where even that bound falls to `bar`. Finger closing, most of an evaluation, is skipped
     /// for every pose that could not have changed the search. Only when the stability term's
@@ -533,7 +536,7 @@ impl EvaluationContext<'_> {
         // The quality bound less the back-off's and the wrist's terms, loosened by a margin so
         // that rounding never prunes a pose whose quality is `bar` to the last bits.
         let rest = if bounded {
-            BOUND_MARGIN - w.fdist * self.fdist_floor()
+            BOUND_MARGIN - w.fdist * self.fdist_floor
         } else {
             f64::INFINITY
         };

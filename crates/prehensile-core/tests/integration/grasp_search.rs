@@ -1255,7 +1255,7 @@ fn the_fdist_floor_bounds_every_valid_pose() {
                 GraspPlanner::new(&hand, object, movement, shoulder, SearchParams::default())
                     .unwrap();
             let ctx = *planner.context();
-            let floor = ctx.fdist_floor();
+            let floor = ctx.fdist_floor;
             assert!(floor > 0.0, "{}: the hook lies inside", object.name());
             let mut ws = Workspace::new(&hand);
             for _ in 0..60 {
