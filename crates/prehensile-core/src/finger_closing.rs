@@ -301,25 +301,20 @@ fn refine_contact(
     let mut blocking = group.end - 1;
     let first = hand.capsule_range(group.start).start;
     let last = hand.capsule_range(finger_end - 1).end;
+    // The capsule ends at `lo` in `ws.capsules` and at `hi` in `ws.capsules_touching`: each
+    // bisection poses the finger once, at its midpoint, and keeps the ends for the bracket's end
+    // the midpoint replaces.
+    set_group(hand, movement, group.clone(), lo, finger_end, ws);
+    write_capsule_ends(hand, &ws.world, first..last, &mut ws.capsules);
+    set_group(hand, movement, group.clone(), hi, finger_end, ws);
+    write_capsule_ends(hand, &ws.world, first..last, &mut ws.capsules_touching);
     for _ in 0..MAX_REFINE_STEPS {
-        // Capsule ends at `lo` into the scratch slots, then the largest move to `hi`.
-        set_group(hand, movement, group.clone(), lo, finger_end, ws);
-        for k in first..last {
-            let c = &hand.capsules()[k];
-            let w = ws.world[c.bone];
-            ws.capsules[k] = Capsule {
-                a: w * c.a,
-                b: w * c.b,
-                radius: c.radius,
-            };
-        }
-        set_group(hand, movement, group.clone(), hi, finger_end, ws);
         let travel = (first..last)
             .map(|k| {
-                let c = &hand.capsules()[k];
-                let w = ws.world[c.bone];
-                let s = &ws.capsules[k];
-                (w * c.a - s.a).norm().max((w * c.b - s.b).norm())
+                let (free, touching) = (&ws.capsules[k], &ws.capsules_touching[k]);
+                (touching.a - free.a)
+                    .norm()
+                    .max((touching.b - free.b).norm())
             })
             .fold(0.0, f64::max);
         if travel <= tolerance {
@@ -341,8 +336,12 @@ fn refine_contact(
             Some(k) => {
                 hi = mid;
                 blocking = k;
+                write_capsule_ends(hand, &ws.world, first..last, &mut ws.capsules_touching);
             }
-            None => lo = mid,
+            None => {
+                lo = mid;
+                write_capsule_ends(hand, &ws.world, first..last, &mut ws.capsules);
+            }
         }
     }
     // The bones touching at the touching end are the contacts, within `tolerance` at `lo`.
@@ -357,8 +356,19 @@ fn refine_contact(
 
 /// Writes every capsule's world position into `ws.capsules`.
 pub fn update_world_capsules(hand: &HandModel, ws: &mut Workspace) {
-    for (slot, c) in ws.capsules.iter_mut().zip(hand.capsules()) {
-        let w = ws.world[c.bone];
+    write_capsule_ends(hand, &ws.world, 0..hand.capsules().len(), &mut ws.capsules);
+}
+
+/// Writes the world positions of the hand's capsules `range`, bones posed at `world`, into the
+/// same slots of `slots`.
+fn write_capsule_ends(
+    hand: &HandModel,
+    world: &[Transform],
+    range: Range<usize>,
+    slots: &mut [Capsule],
+) {
+    for (slot, c) in slots[range.clone()].iter_mut().zip(&hand.capsules()[range]) {
+        let w = world[c.bone];
         *slot = Capsule {
             a: w * c.a,
             b: w * c.b,

@@ -30,6 +30,7 @@ pub mod movement_derivation;
 pub mod object;
 pub mod search;
 pub mod shapes;
+pub mod slerp_path;
 pub mod stability;
 pub mod workspace;
 

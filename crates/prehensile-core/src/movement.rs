@@ -3,6 +3,7 @@
 
 use crate::hand::{HandError, HandModel, MovementDescription};
 use crate::math::{Point3, Rotation, Transform};
+use crate::slerp_path::SlerpPath;
 
 /// A grasp movement of one hand: start and end joint rotations, its grasp center, and the
 /// fingers that must touch for the grasp to count.
@@ -12,7 +13,9 @@ pub struct GraspMovement {
     start_angles: Vec<f64>,
     end_angles: Vec<f64>,
     start: Vec<Rotation>,
-    end: Vec<Rotation>,
+    /// Every bone's slerp from start to end (kept with the via pose's too: finger closing
+    /// interpolates tens of thousands of times per search).
+    paths: Vec<SlerpPath>,
     grasp_center: Point3,
     contact_fingers: Vec<usize>,
     via: Option<Via>,
@@ -27,7 +30,10 @@ pub struct GraspMovement {
 pub struct Via {
     fraction: f64,
     angles: Vec<f64>,
-    rotations: Vec<Rotation>,
+    /// Every bone's slerp from the movement's start to this pose.
+    paths_in: Vec<SlerpPath>,
+    /// Every bone's slerp from this pose to the movement's end.
+    paths_out: Vec<SlerpPath>,
 }
 
 impl Via {
@@ -82,13 +88,9 @@ impl GraspMovement {
     #[inline]
     pub fn rotation_at(&self, bone: usize, f: f64) -> Rotation {
         match &self.via {
-            None => self.start[bone].slerp(&self.end[bone], f),
-            Some(v) if f <= v.fraction => {
-                self.start[bone].slerp(&v.rotations[bone], f / v.fraction)
-            }
-            Some(v) => {
-                v.rotations[bone].slerp(&self.end[bone], (f - v.fraction) / (1.0 - v.fraction))
-            }
+            None => self.paths[bone].at(f),
+            Some(v) if f <= v.fraction => v.paths_in[bone].at(f / v.fraction),
+            Some(v) => v.paths_out[bone].at((f - v.fraction) / (1.0 - v.fraction)),
         }
     }
 
@@ -142,10 +144,22 @@ impl GraspMovement {
         hand.constrain(&mut q);
         let mut rotations = vec![Rotation::identity(); hand.bones().len()];
         hand.joint_rotations(&q, &mut rotations);
+        let mut end = vec![Rotation::identity(); hand.bones().len()];
+        hand.joint_rotations(&self.end_angles, &mut end);
         self.via = Some(Via {
             fraction,
             angles: q,
-            rotations,
+            paths_in: self
+                .start
+                .iter()
+                .zip(&rotations)
+                .map(|(s, v)| SlerpPath::new(s, v))
+                .collect(),
+            paths_out: rotations
+                .iter()
+                .zip(&end)
+                .map(|(v, e)| SlerpPath::new(v, e))
+                .collect(),
         });
         Ok(self)
     }
@@ -319,8 +333,12 @@ impl GraspMovement {
             name: name.to_string(),
             start_angles,
             end_angles,
+            paths: start
+                .iter()
+                .zip(&end)
+                .map(|(s, e)| SlerpPath::new(s, e))
+                .collect(),
             start,
-            end,
             grasp_center,
             contact_fingers: Vec::new(),
             via: None,

@@ -23,6 +23,9 @@ pub struct Workspace {
     pub reached: Vec<u32>,
     /// World capsules of the current pose, one per hand capsule.
     pub capsules: Vec<Capsule>,
+    /// World capsules at the touching end of a contact refinement's bracket (finger closing's
+    /// scratch).
+    pub capsules_touching: Vec<Capsule>,
     /// Collision query counts.
     pub counters: CollisionCounters,
     /// Contacts of the last stability evaluation.
@@ -48,6 +51,7 @@ impl Workspace {
             touching: vec![false; n],
             reached: vec![0; n],
             capsules: vec![zero; hand.capsules().len()],
+            capsules_touching: vec![zero; hand.capsules().len()],
             counters: CollisionCounters::default(),
             contacts: Vec::with_capacity(3 * hand.capsules().len()),
             wrench_space: GraspWrenchSpace::new(),
