@@ -13,7 +13,11 @@ SHADOW_MOVEMENT is the Shadow hand's movement today (default power; `close` comp
 filing day's movement with itself). `--thesis-rules` searches today's build under the thesis's
 validity rules (`--validity thesis`), the filing day's: with `close` for the Shadow hand, both
 builds then do the same task, and what is left of the ratio is what the search's machinery
-costs (docs/QUALITY.md, session 33).
+costs (docs/QUALITY.md, session 33). `--fill-grid` fills today's distance grid before its
+search (`prehensile grasp --fill-grid`), as the filing day's setup filled its own: both searches
+then read a filled grid, and their timers time the same kind of work (docs/QUALITY.md,
+session 37). Whole runs are then no longer comparable (today's fills every node, not only
+those its search reads).
 
 The old CLI has no `--threads` and searched on one thread; today's is given `--threads 1`.
 Needs numpy and scipy (the object list comes from tools/quality/grasp_survey.py, which imports
@@ -63,9 +67,12 @@ def main():
                         help="the Shadow hand's movement today")
     parser.add_argument("--thesis-rules", action="store_true",
                         help="search today's build under the thesis's validity rules")
+    parser.add_argument("--fill-grid", action="store_true",
+                        help="fill today's distance grid before its search, as the filing day's")
     options = parser.parse_args()
     old, new, rounds, shadow_now = options.old, options.new, options.rounds, options.shadow_now
     extra = ["--validity", "thesis"] if options.thesis_rules else []
+    extra += ["--fill-grid"] if options.fill_grid else []
     # (hand, movement on the filing day, movement today)
     cases = [("human", "power", "power"), (SHADOW, "close", shadow_now)]
     for hand, then, now in cases:

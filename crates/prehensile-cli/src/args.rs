@@ -311,6 +311,12 @@ pub struct GraspArgs {
     /// until converged). docs/PERFORMANCE.md shows what 5 to 40 ms buy.
     #[arg(long)]
     pub budget_ms: Option<f64>,
+    /// Fill the object's whole distance grid before the search, on every core, instead of node by
+    /// node as the search reads it: the search's own time (`stats.seconds`) then leaves the
+    /// fills out, as it is from the second grasp on in a program that keeps its object. The
+    /// same grasp either way; a single grasp takes longer in all.
+    #[arg(long)]
+    pub fill_grid: bool,
     /// Also test the grasp in the rapier world: the hand squeezes (grip strength 0.5), then
     /// gravity pulls the object along each of the 6 axis directions for 1 s; held = moved < 2 cm
     /// and turned < 30°. Adds `hold` to the JSON.

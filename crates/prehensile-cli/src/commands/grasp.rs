@@ -192,6 +192,9 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
         },
         budget,
     };
+    if args.fill_grid {
+        object.collider().fill_grid();
+    }
     let setup_ms = setup.elapsed().as_secs_f64() * 1e3;
     let (result, took) = search(&hand, &object, &request, true)?;
     let hold = if args.hold {

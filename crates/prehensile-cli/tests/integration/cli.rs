@@ -152,7 +152,7 @@ fn no_valid_grasp_exits_one_and_names_the_test_that_failed() {
 }
 
 #[test]
-fn a_grasp_is_the_same_on_any_number_of_threads() {
+fn a_grasp_is_the_same_on_any_number_of_threads_and_on_a_grid_filled_first() {
     let result = |threads: &[&str], name: &str| {
         let json = scratch(name);
         let mut args = vec![
@@ -179,6 +179,10 @@ fn a_grasp_is_the_same_on_any_number_of_threads() {
     let one = result(&["--threads", "1"], "mug_one_thread.json");
     assert_eq!(one, result(&["--threads", "4"], "mug_four_threads.json"));
     assert_eq!(one, result(&[], "mug_every_core.json"));
+    assert_eq!(
+        one,
+        result(&["--threads", "1", "--fill-grid"], "mug_grid_filled.json")
+    );
     let out = prehensile(&["grasp", "--threads", "0"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(text(&out.stderr).contains("--threads 0"));

@@ -75,6 +75,14 @@ impl MeshCollider {
         self.fast.as_ref()
     }
 
+    /// Fills the whole distance grid now ([`SignedDistanceGrid::fill_all`]) rather than node by
+    /// node as searches read it; returns how many nodes it filled (0 without a grid).
+    pub fn fill_grid(&self) -> usize {
+        self.fast
+            .as_ref()
+            .map_or(0, |grid| grid.fill_all(&self.exact))
+    }
+
     /// An upper bound on the smallest signed distance along segment `a–b` (+∞ when the grid
     /// cannot bound it, or there is no grid), from the distance grid; only a bound below
     /// `below` is asked for (at or above it, some number at least `below`; pass `f64::INFINITY`

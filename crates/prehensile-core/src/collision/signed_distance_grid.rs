@@ -111,6 +111,21 @@ impl SignedDistanceGrid {
             .count()
     }
 
+    /// Fills every node not filled yet, on rayon's pool (the global one, or the one the call
+    /// runs in), with the values a search would have filled them with as it read them: done
+    /// once, e.g. while a game loads its level, it leaves later searches only reads. Returns how
+    /// many nodes it filled.
+    pub fn fill_all(&self, exact: &TriangleBvh) -> usize {
+        use rayon::prelude::*;
+        let [nx, ny, _] = self.dims;
+        self.values
+            .par_iter()
+            .enumerate()
+            .filter(|(_, slot)| slot.load(Ordering::Relaxed) == UNFILLED)
+            .map(|(i, slot)| self.fill(exact, [i % nx, i / nx % ny, i / (nx * ny)], slot))
+            .count()
+    }
+
     /// The exact signed distance at node `idx`, filled now if it was not.
     #[inline]
     fn node_value(&self, exact: &TriangleBvh, idx: [usize; 3]) -> f32 {

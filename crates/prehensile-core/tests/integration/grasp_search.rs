@@ -1293,3 +1293,36 @@ fn the_fdist_floor_bounds_every_valid_pose() {
         );
     }
 }
+
+/// A distance grid filled up front (`MeshCollider::fill_grid`) holds the values a search fills
+/// as it reads them, so searches on it find the same grasps; every node is filled once.
+#[test]
+fn a_grid_filled_up_front_gives_the_same_grasps() {
+    let hand = common::hand("human");
+    let objects = [
+        (common::object("mug"), common::object("mug")),
+        (
+            fixture("robosuite_can.obj", 1.0),
+            fixture("robosuite_can.obj", 1.0),
+        ),
+    ];
+    for (lazy, filled) in &objects {
+        let grid = filled.collider().grid().expect("a closed mesh has a grid");
+        assert_eq!(grid.filled_nodes(), 0);
+        assert_eq!(filled.collider().fill_grid(), grid.node_count());
+        assert_eq!(grid.filled_nodes(), grid.node_count());
+        assert_eq!(
+            filled.collider().fill_grid(),
+            0,
+            "a second fill has nothing to do"
+        );
+        for seed in 1..=2 {
+            let on_lazy = search(&hand, lazy, "power", SHOULDERS[0], seed);
+            let mut on_filled = search(&hand, filled, "power", SHOULDERS[0], seed);
+            on_filled.stats.seconds = on_lazy.stats.seconds;
+            assert_eq!(on_lazy, on_filled, "{} seed {seed}", lazy.name());
+        }
+        let lazy_grid = lazy.collider().grid().unwrap();
+        assert!(lazy_grid.filled_nodes() < lazy_grid.node_count() / 2);
+    }
+}
