@@ -12,6 +12,7 @@ use prehensile_control::GraspController;
 use prehensile_core::math::Vec3;
 use prehensile_core::stability::LOAD_DIRECTIONS;
 use prehensile_core::{HandModel, ObjectModel};
+use rayon::prelude::*;
 use serde::Serialize;
 
 use super::held_still::closing_on_fixed_object;
@@ -75,26 +76,33 @@ pub fn hold_test(
     }
     settings.check()?;
     let g = settings.gravity.norm();
+    // The six loads are independent runs from the same start: they run side by side, each on
+    // its own world, and are reported in the order of `LOAD_DIRECTIONS` whatever the threads.
+    let outcomes = LOAD_DIRECTIONS
+        .par_iter()
+        .enumerate()
+        .map(|(k, direction)| {
+            let mut axis = Vec3::zeros();
+            axis[k / 2] = if k % 2 == 0 { 1.0 } else { -1.0 };
+            let gravity = axis * g;
+            let mut controller = grasp.controller(hand, &gravity)?;
+            controller.alpha = alpha;
+            let settings = Settings {
+                gravity,
+                ..settings
+            };
+            hold_against(hand, object, grasp, controller, settings, direction)
+        })
+        .collect::<Result<Vec<_>, SimError>>()?;
     let mut report = HoldReport {
         alpha,
-        object_mass_kg: 0.0,
+        object_mass_kg: outcomes.last().map_or(0.0, |(_, mass)| *mass),
         dt: settings.dt,
         directions: Vec::with_capacity(6),
         held: 0,
     };
-    for (k, direction) in LOAD_DIRECTIONS.iter().enumerate() {
-        let mut axis = Vec3::zeros();
-        axis[k / 2] = if k % 2 == 0 { 1.0 } else { -1.0 };
-        let gravity = axis * g;
-        let mut controller = grasp.controller(hand, &gravity)?;
-        controller.alpha = alpha;
-        let settings = Settings {
-            gravity,
-            ..settings
-        };
-        let (outcome, mass) = hold_against(hand, object, grasp, controller, settings, direction)?;
-        report.object_mass_kg = mass;
-        report.held += outcome.held as usize;
+    for (outcome, _) in outcomes {
+        report.held += usize::from(outcome.held);
         report.directions.push(outcome);
     }
     Ok(report)

@@ -1,9 +1,10 @@
-//! The hold test: a searched power grasp holds its object against loads in several directions; the
-//! same hand kept open beside the object holds it in none; a search result round-trips into the
-//! simulation's grasp.
+//! The hold test: a searched power grasp holds its object against loads in several directions,
+//! the same on one thread as on several; the same hand kept open beside the object holds it in
+//! none; a search result round-trips into the simulation's grasp.
 
 use prehensile_core::math::{Point3, Vec3};
 use prehensile_core::search::{default_shoulder, GraspPlanner, GraspResult, SearchParams};
+use prehensile_core::stability::LOAD_DIRECTIONS;
 use prehensile_core::{shapes, ObjectModel, Workspace};
 use prehensile_sim::scenarios::{hold_test, plan_grasp, PlannedGrasp, HOLD_ALPHA};
 use prehensile_sim::Settings;
@@ -26,6 +27,19 @@ fn a_searched_power_grasp_of_the_sphere_holds_in_most_directions() {
         assert!(d.diverged.is_none());
         assert_eq!(d.held, d.moved_m < 0.02 && d.turned_degrees < 30.0);
     }
+    // The six loads run side by side: on one thread the report is the same, in the same order.
+    let one_thread = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap()
+        .install(|| hold_test(&hand, &object, &grasp, Settings::default(), HOLD_ALPHA))
+        .unwrap();
+    let labels: Vec<_> = one_thread.directions.iter().map(|d| d.direction).collect();
+    assert_eq!(labels, LOAD_DIRECTIONS);
+    assert_eq!(
+        serde_json::to_value(&one_thread).unwrap(),
+        serde_json::to_value(&report).unwrap()
+    );
 }
 
 #[test]
