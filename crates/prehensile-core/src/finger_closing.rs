@@ -55,8 +55,25 @@ pub fn close_fingers(
     params: &ClosingParams,
     ws: &mut Workspace,
 ) -> ClosingOutcome {
+    close_fingers_while(hand, object, movement, root, params, ws, &mut |_, _| true)
+        .expect("a closing never told to stop finishes")
+}
+
+/// [`close_fingers`], asking `go_on(finger, ws)` each time a finger has closed when the fingers
+/// close one after another ([`fingers_close_apart`]), and stopping with `None` (the workspace
+/// holding a partial pose) as soon as it answers no: a search stops a pose whose fingers
+/// closed so far already rule it out. Hands whose fingers must close together are closed
+/// whole and never asked. Allocates nothing.
+pub fn close_fingers_while(
+    hand: &HandModel,
+    object: &ObjectModel,
+    movement: &GraspMovement,
+    root: &Transform,
+    params: &ClosingParams,
+    ws: &mut Workspace,
+    go_on: &mut dyn FnMut(usize, &Workspace) -> bool,
+) -> Option<ClosingOutcome> {
     let bones = hand.bones();
-    let n = params.interpolations.max(1);
     let mut outcome = ClosingOutcome::default();
     for b in 0..bones.len() {
         ws.rotations[b] = movement.rotation_at(b, 0.0);
@@ -66,14 +83,76 @@ pub fn close_fingers(
         ws.touching[b] = false;
     }
     crate::kinematics::forward_kinematics(hand, root, &ws.rotations, &mut ws.world);
-    let mut moving = bones.len() - 1;
+    if fingers_close_apart(hand) {
+        for (f, finger) in hand.fingers().iter().enumerate() {
+            let bones = finger.bones.iter().copied();
+            close_together(hand, object, movement, params, bones, &mut outcome, ws);
+            if !go_on(f, ws) {
+                return None;
+            }
+        }
+    } else {
+        close_together(
+            hand,
+            object,
+            movement,
+            params,
+            1..bones.len(),
+            &mut outcome,
+            ws,
+        );
+    }
+    outcome.touching_bones = ws.touching.iter().filter(|&&t| t).count() as u32;
+    update_world_capsules(hand, ws);
+    Some(outcome)
+}
+
+/// Can the fingers close one after another, each through every interpolation, instead of all
+/// of them step by step (Alg. 1), with the same outcome? Yes when every bone but the root
+/// belongs to a finger (its bones in index order, parents first) and hangs from the root or
+/// from its own finger, and every rigid coupling stays within a finger: a bone's poses then
+/// depend on its own finger's alone, and the order the fingers are taken in changes nothing.
+pub fn fingers_close_apart(hand: &HandModel) -> bool {
+    let bones = hand.bones();
+    let finger_of = |b: usize| bones[b].finger;
+    let hang_from_their_finger = bones.iter().skip(1).all(|bone| {
+        bone.finger.is_some()
+            && bone
+                .parent
+                .is_some_and(|p| p == 0 || finger_of(p) == bone.finger)
+    });
+    let fingers_in_order = hand.fingers().iter().enumerate().all(|(f, finger)| {
+        finger.bones.windows(2).all(|w| w[0] < w[1])
+            && finger.bones.iter().all(|&b| finger_of(b) == Some(f))
+    });
+    let couplings_within =
+        hand.couplings().iter().filter(|c| c.rigid).all(|c| {
+            finger_of(hand.bone_of_dof(c.leader)) == finger_of(hand.bone_of_dof(c.follower))
+        });
+    hang_from_their_finger && fingers_in_order && couplings_within
+}
+
+/// Alg. 1 over `group` (bones in index order, parents first): every bone of it advances through
+/// the interpolations, and one that touches stops with its still-moving predecessors. Bones
+/// that never stop end at the last interpolation.
+fn close_together(
+    hand: &HandModel,
+    object: &ObjectModel,
+    movement: &GraspMovement,
+    params: &ClosingParams,
+    group: impl Iterator<Item = usize> + Clone,
+    outcome: &mut ClosingOutcome,
+    ws: &mut Workspace,
+) {
+    let bones = hand.bones();
+    let n = params.interpolations.max(1);
+    let mut moving = group.clone().filter(|&b| !ws.stopped[b]).count();
     for i in 1..=n {
         if moving == 0 {
             break;
         }
         let f = i as f64 / n as f64;
-        #[allow(clippy::needless_range_loop)] // `b` indexes several workspace arrays
-        for b in 1..bones.len() {
+        for b in group.clone() {
             if ws.stopped[b] {
                 continue;
             }
@@ -92,22 +171,22 @@ pub fn close_fingers(
                 }
                 top = p;
             }
-            let group = top..b + 1;
-            let finger_end = group.start
-                + hand.bones()[group.start..]
+            let chain = top..b + 1;
+            let finger_end = chain.start
+                + bones[chain.start..]
                     .iter()
                     .take_while(|x| x.finger == bones[b].finger)
                     .count();
             if let Some(tolerance) = params.contact_tolerance {
                 // Bracket the contact between the previous fraction (free: the last step checked
                 // it, and a refinement earlier in this step kept this bone's pose free) and `f`.
-                set_group(hand, movement, group.clone(), previous, finger_end, ws);
-                if !group_touches(hand, object, group.start..finger_end, ws) {
+                set_group(hand, movement, chain.clone(), previous, finger_end, ws);
+                if !group_touches(hand, object, chain.start..finger_end, ws) {
                     refine_contact(
                         hand,
                         object,
                         movement,
-                        group.clone(),
+                        chain.clone(),
                         finger_end,
                         [previous, f],
                         tolerance,
@@ -120,21 +199,18 @@ pub fn close_fingers(
             } else {
                 ws.touching[b] = true;
             }
-            for k in group {
+            for k in chain {
                 ws.stopped[k] = true;
                 moving -= 1;
             }
             moving -= stop_coupled_followers(hand, object, movement, params.contact_tolerance, ws);
         }
     }
-    for b in 1..bones.len() {
+    for b in group {
         if !ws.stopped[b] {
             ws.reached[b] = n;
         }
     }
-    outcome.touching_bones = ws.touching.iter().filter(|&&t| t).count() as u32;
-    update_world_capsules(hand, ws);
-    outcome
 }
 
 /// Beyond the thesis: the file's mechanical joint couplings (MJCF fixed tendons, URDF mimic

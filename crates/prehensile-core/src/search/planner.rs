@@ -22,7 +22,7 @@ use super::initial_approximation::InitialApproximation;
 use super::material_hook::material_hook;
 use super::optimization_step::{step_candidates, StepKind};
 use super::quality::{
-    fdist_floor, Evaluation, EvaluationContext, Invalid, QualityWeights, ValidityRule,
+    hook_depth, Evaluation, EvaluationContext, Invalid, QualityWeights, ValidityRule,
 };
 use super::random::SplitMix64;
 use super::start_position::{nearest_hook, start_rotation};
@@ -373,7 +373,7 @@ impl<'a> GraspPlanner<'a> {
             object,
             movement,
             hook,
-            fdist_floor: fdist_floor(hand, object, &hook),
+            hook_depth: hook_depth(object, &hook),
             hang_shift: 0.0,
             shoulder,
             start,

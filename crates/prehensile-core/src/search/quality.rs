@@ -2,8 +2,8 @@
 //! the pose is a valid grasp.
 
 use crate::collision::Capsule;
-use crate::finger_closing::{close_fingers, ClosingParams};
-use crate::hand::HandModel;
+use crate::finger_closing::{close_fingers_while, ClosingParams};
+use crate::hand::{Finger, HandModel};
 use crate::math::{Point3, Rotation, Transform};
 use crate::movement::GraspMovement;
 use crate::object::ObjectModel;
@@ -361,11 +361,11 @@ pub struct EvaluationContext<'a> {
     pub movement: &'a GraspMovement,
     /// The hook point, world.
     pub hook: Point3,
-    /// A lower bound on the fDist of every valid pose from this hook, metres ([`fdist_floor`]),
-    /// computed once per hook for the step's bound
-    /// ([`EvaluationContext::evaluate_pose_to_beat`]). Kept with `hook` by
-    /// [`EvaluationContext::set_hook`].
-    pub fdist_floor: f64,
+    /// How deep the hook lies inside the object, metres ([`hook_depth`]): what the fDist floor
+    /// of every valid pose from this hook comes from ([`finger_fdist_floor`]), computed once per
+    /// hook for the step's bound ([`EvaluationContext::evaluate_pose_to_beat`]). Kept with
+    /// `hook` by [`EvaluationContext::set_hook`].
+    pub hook_depth: f64,
     /// How much nearer the palm than the movement's grasp center the hand hangs from the hook,
     /// metres: 0, or in a search's second hang more (nearer) or less (farther out)
     /// ([`crate::search::GraspPlanner`]).
@@ -398,7 +398,7 @@ pub struct EvaluationContext<'a> {
 /// How deep `hook` lies inside the object, metres: its distance to the surface when inside, 0
 /// outside, and 0 where the inside comes from winding numbers (an open mesh's inside also ends
 /// across its holes, away from any triangle, so the surface does not bound the way out).
-fn hook_depth(object: &ObjectModel, hook: &Point3) -> f64 {
+pub fn hook_depth(object: &ObjectModel, hook: &Point3) -> f64 {
     let exact = object.collider().exact();
     if exact.uses_winding_numbers() {
         return 0.0;
@@ -419,43 +419,52 @@ fn hook_depth(object: &ObjectModel, hook: &Point3) -> f64 {
 /// ([`crate::finger_closing::closes_checked`]) adds nothing. Tested against the fDist of valid
 /// poses (`the_fdist_floor_bounds_every_valid_pose`).
 pub fn fdist_floor(hand: &HandModel, object: &ObjectModel, hook: &Point3) -> f64 {
-    let depth = hook_depth(object, hook);
-    if depth <= 0.0 {
-        return 0.0;
-    }
-    let followers = || {
-        hand.couplings()
-            .iter()
-            .filter(|c| c.rigid)
-            .map(|c| hand.bone_of_dof(c.follower))
-    };
-    hand.fingers()
-        .iter()
-        .map(|finger| {
-            let has_capsules = |b: usize| !hand.bone_capsules(b).is_empty();
-            let last = *finger.bones.last().expect("fingers have bones");
-            if !has_capsules(last)
-                || followers().any(|b| finger.bones.contains(&b) && !has_capsules(b))
-                || !crate::finger_closing::closes_checked(hand, finger)
-            {
-                return 0.0;
-            }
-            let thinnest = finger
-                .bones
-                .iter()
-                .flat_map(|&b| hand.bone_capsules(b))
-                .map(|c| c.radius)
-                .fold(f64::INFINITY, f64::min);
-            (depth + thinnest - CONTACT_TOLERANCE).max(0.0)
-        })
+    fdist_floor_at(hand, hook_depth(object, hook))
+}
+
+/// [`fdist_floor`] for a hook `depth` metres inside the object.
+fn fdist_floor_at(hand: &HandModel, depth: f64) -> f64 {
+    (0..hand.fingers().len())
+        .map(|f| finger_fdist_floor(hand, f, depth))
         .sum()
 }
 
+/// What finger `finger` adds to [`fdist_floor`] for a hook `depth` metres inside the object
+/// ([`hook_depth`]): each finger's term of a valid pose is at least this on its own, so a
+/// finger once closed may replace its floor by its term.
+pub fn finger_fdist_floor(hand: &HandModel, finger: usize, depth: f64) -> f64 {
+    if depth <= 0.0 {
+        return 0.0;
+    }
+    let finger = &hand.fingers()[finger];
+    let has_capsules = |b: usize| !hand.bone_capsules(b).is_empty();
+    let last = *finger.bones.last().expect("fingers have bones");
+    let unchecked_follower = hand
+        .couplings()
+        .iter()
+        .filter(|c| c.rigid)
+        .map(|c| hand.bone_of_dof(c.follower))
+        .any(|b| finger.bones.contains(&b) && !has_capsules(b));
+    if !has_capsules(last)
+        || unchecked_follower
+        || !crate::finger_closing::closes_checked(hand, finger)
+    {
+        return 0.0;
+    }
+    let thinnest = finger
+        .bones
+        .iter()
+        .flat_map(|&b| hand.bone_capsules(b))
+        .map(|c| c.radius)
+        .fold(f64::INFINITY, f64::min);
+    (depth + thinnest - CONTACT_TOLERANCE).max(0.0)
+}
+
 impl EvaluationContext<'_> {
-    /// Moves the hook to `hook` (world), with its fDist floor.
+    /// Moves the hook to `hook` (world), with its depth.
     pub fn set_hook(&mut self, hook: Point3) {
         self.hook = hook;
-        self.fdist_floor = fdist_floor(self.hand, self.object, &hook);
+        self.hook_depth = hook_depth(self.object, &hook);
     }
 
     /// Where the wrist is with the hand hung from `hook` backed off `offset`, as finger
@@ -503,9 +512,12 @@ impl EvaluationContext<'_> {
     /// floor) ([`fdist_floor`]; tDist* ≥ 0), known after TranslateToFree, and
     /// since backing off by δ moves the wrist by δ, TranslateToFree gives up at the back-off
     /// where even that bound falls to `bar`. Finger closing, most of an evaluation, is skipped
-    /// for every pose that could not have changed the search. Only when the stability term's
-    /// weight is 0 and the others are not negative; else, as for `bar` = −∞, the whole pose is
-    /// evaluated.
+    /// for every pose that could not have changed the search. Where the fingers close one after
+    /// another ([`crate::finger_closing::fingers_close_apart`]), each finger that has closed
+    /// swaps its floor ([`finger_fdist_floor`]) for its own fDist term (and a contact finger
+    /// adds its tDist term), and the pose stops as soon as the bound falls below `bar`. Only when
+    /// the stability term's weight is 0 and the others are not negative; else, as for `bar` =
+    /// −∞, the whole pose is evaluated.
     pub fn evaluate_pose_to_beat(
         &self,
         rotation: &Rotation,
@@ -536,7 +548,7 @@ impl EvaluationContext<'_> {
         // The quality bound less the back-off's and the wrist's terms, loosened by a margin so
         // that rounding never prunes a pose whose quality is `bar` to the last bits.
         let rest = if bounded {
-            BOUND_MARGIN - w.fdist * self.fdist_floor
+            BOUND_MARGIN - w.fdist * fdist_floor_at(self.hand, self.hook_depth)
         } else {
             f64::INFINITY
         };
@@ -565,23 +577,44 @@ impl EvaluationContext<'_> {
             });
             return eval;
         };
+        // The bound once the hand is placed; each finger that closes then swaps its floor for
+        // its own fDist term (and, for a contact finger, adds its tDist term).
+        let mut bound = f64::INFINITY;
         if bounded {
             let wrist = (self.wrist(&hook, offset) - self.shoulder).norm();
-            if rest - w.gdist * offset - w.wdist * wrist < bar {
+            bound = rest - w.gdist * offset - w.wdist * wrist;
+            if bound < bar {
                 eval.validity = Err(Invalid::Outranked);
                 return eval;
             }
         }
         eval.offset = offset;
         let root = hand_root(&hook, self.movement, offset);
-        let outcome = close_fingers(
+        let contact = self.movement.contact_fingers();
+        let mut still_beats_the_bar = |f: usize, ws: &Workspace| {
+            if bounded {
+                let finger = &self.hand.fingers()[f];
+                bound -= w.fdist
+                    * (self.finger_fdist(finger, ws)
+                        - finger_fdist_floor(self.hand, f, self.hook_depth));
+                if contact.contains(&f) {
+                    bound -= w.tdist * self.tip_distance(finger, ws);
+                }
+            }
+            bound >= bar
+        };
+        let Some(outcome) = close_fingers_while(
             self.hand,
             self.object,
             self.movement,
             &root,
             &self.closing,
             ws,
-        );
+            &mut still_beats_the_bar,
+        ) else {
+            eval.validity = Err(Invalid::Outranked);
+            return eval;
+        };
         eval.terms = self.terms(offset, ws);
         eval.fingers_touching = self
             .hand
@@ -769,39 +802,49 @@ impl EvaluationContext<'_> {
         };
         let contact = self.movement.contact_fingers();
         for (fi, finger) in hand.fingers().iter().enumerate() {
-            let last = *finger.bones.last().expect("fingers have bones");
-            let tip = ws.world[last] * finger.tip;
-            let tip_distance = (tip - self.hook).norm();
+            let tip_distance = self.tip_distance(finger, ws);
             terms.tdist += tip_distance;
             if contact.contains(&fi) {
                 terms.tdist_contact += tip_distance;
             }
-            // Alg. 7: the first-contact bone is the last of those that reached the fewest
-            // interpolations; its end point is the end of its capsule.
-            let fewest = finger
-                .bones
-                .iter()
-                .map(|&b| ws.reached[b])
-                .min()
-                .unwrap_or(0);
-            let first_contact = *finger
-                .bones
-                .iter()
-                .rev()
-                .find(|&&b| ws.reached[b] == fewest)
-                .expect("the minimum is reached by some bone");
-            let end = hand
-                .bone_capsules(first_contact)
-                .last()
-                .map_or(ws.world[first_contact].translation.vector.into(), |c| {
-                    ws.world[first_contact] * c.b
-                });
-            terms.fdist += (end - self.hook).norm();
+            terms.fdist += self.finger_fdist(finger, ws);
         }
         let moving = hand.bones().len().saturating_sub(1).max(1);
         terms.mean_reached =
             ws.reached.iter().skip(1).map(|&r| r as f64).sum::<f64>() / moving as f64;
         terms
+    }
+
+    /// The distance of `finger`'s tip from the hook in the pose in `ws` (its tDist term).
+    fn tip_distance(&self, finger: &Finger, ws: &Workspace) -> f64 {
+        let last = *finger.bones.last().expect("fingers have bones");
+        (ws.world[last] * finger.tip - self.hook).norm()
+    }
+
+    /// `finger`'s fDist term in the pose in `ws`, metres. Alg. 7: the first-contact bone is the
+    /// last of those that reached the fewest interpolations; its end point is the end of its
+    /// capsule.
+    pub fn finger_fdist(&self, finger: &Finger, ws: &Workspace) -> f64 {
+        let fewest = finger
+            .bones
+            .iter()
+            .map(|&b| ws.reached[b])
+            .min()
+            .unwrap_or(0);
+        let first_contact = *finger
+            .bones
+            .iter()
+            .rev()
+            .find(|&&b| ws.reached[b] == fewest)
+            .expect("the minimum is reached by some bone");
+        let end = self
+            .hand
+            .bone_capsules(first_contact)
+            .last()
+            .map_or(ws.world[first_contact].translation.vector.into(), |c| {
+                ws.world[first_contact] * c.b
+            });
+        (end - self.hook).norm()
     }
 
     fn validity(

@@ -2,7 +2,9 @@
 
 use crate::common;
 
-use prehensile_core::finger_closing::{close_fingers, ClosingParams};
+use prehensile_core::finger_closing::{
+    close_fingers, close_fingers_while, fingers_close_apart, ClosingParams,
+};
 use prehensile_core::math::Transform;
 use prehensile_core::{ObjectModel, Workspace};
 
@@ -155,4 +157,62 @@ fn closing_is_deterministic() {
     let first = ws.capsules.clone();
     close_fingers(&hand, &object, m, &root, &ClosingParams::default(), &mut ws);
     assert_eq!(first, ws.capsules);
+}
+
+#[test]
+fn the_fingers_of_every_built_in_hand_and_the_shadow_hand_close_one_after_another() {
+    // What lets a search's step stop a candidate once its fingers closed so far rule it out
+    // (`EvaluationContext::evaluate_pose_to_beat`): each finger hangs from the palm and no
+    // rigid coupling crosses fingers, so they may close one after another.
+    let shadow = prehensile_formats::load_hand_mjcf(&common::repo_path(
+        "assets/hands/shadow_hand/reach.xml",
+    ))
+    .unwrap();
+    let hands = prehensile_formats::BUILTIN_HANDS
+        .iter()
+        .map(|name| common::hand(name))
+        .chain([shadow]);
+    for hand in hands {
+        assert!(fingers_close_apart(&hand), "{}", hand.name());
+        // Asked after each finger, in order; told to stop after the second, it stops there.
+        let object = common::object("sphere");
+        let mut ws = Workspace::new(&hand);
+        let name = if hand.movement("power").is_some() {
+            "power"
+        } else {
+            "close"
+        };
+        let root = common::free_root(&hand, &object, name, &mut ws);
+        let movement = hand.movement(name).unwrap();
+        let params = ClosingParams::default();
+        let mut asked = Vec::new();
+        let mut go_on = |f: usize, _: &Workspace| {
+            asked.push(f);
+            f < 1
+        };
+        let stopped = close_fingers_while(
+            &hand, &object, movement, &root, &params, &mut ws, &mut go_on,
+        );
+        assert_eq!(stopped, None, "{}", hand.name());
+        assert_eq!(asked, [0, 1], "{}", hand.name());
+        // Never told to stop, it closes as `close_fingers` does.
+        let mut every = Vec::new();
+        let whole = close_fingers_while(
+            &hand,
+            &object,
+            movement,
+            &root,
+            &params,
+            &mut ws,
+            &mut |f, _| {
+                every.push(f);
+                true
+            },
+        );
+        let reached = ws.reached.clone();
+        let alone = close_fingers(&hand, &object, movement, &root, &params, &mut ws);
+        assert_eq!(whole, Some(alone), "{}", hand.name());
+        assert_eq!(reached, ws.reached, "{}", hand.name());
+        assert_eq!(every, (0..hand.fingers().len()).collect::<Vec<_>>());
+    }
 }

@@ -14,8 +14,9 @@ use prehensile_core::search::initial_approximation::{
 };
 use prehensile_core::search::translate_to_free::translate_to_free;
 use prehensile_core::search::{
-    Evaluation, GraspPlanner, GraspResult, PlannerStatus, SearchError, SearchParams, SearchSink,
-    SearchStats, StopRule, TranslateMode, ValidityRule, SAMPLES_PER_SLICE,
+    fdist_floor, finger_fdist_floor, Evaluation, GraspPlanner, GraspResult, PlannerStatus,
+    SearchError, SearchParams, SearchSink, SearchStats, StopRule, TranslateMode, ValidityRule,
+    SAMPLES_PER_SLICE,
 };
 use prehensile_core::shapes::{self, BUILTIN_OBJECTS};
 use prehensile_core::{HandModel, ObjectModel, Workspace};
@@ -962,8 +963,12 @@ fn lazy_stability_takes_the_same_path_with_fewer_tests() {
             }
         }
     }
+    // Judging every candidate, a search judges the valid ones that close below the bar of a
+    // step too, unless the step's bound stops them while their fingers close: since it stops
+    // finger by finger (session 38), most are (these searches: 984 stability tests before,
+    // 421 after, lazy judging 367 both times), so laziness saves less than it did.
     assert!(
-        2 * lazy_tests < eager_tests,
+        lazy_tests < eager_tests,
         "searches that found a grasp pushing from every side: lazy judging made {lazy_tests} stability tests, judging \
          every candidate {eager_tests}"
     );
@@ -1255,7 +1260,7 @@ fn the_fdist_floor_bounds_every_valid_pose() {
                 GraspPlanner::new(&hand, object, movement, shoulder, SearchParams::default())
                     .unwrap();
             let ctx = *planner.context();
-            let floor = ctx.fdist_floor;
+            let floor = fdist_floor(&hand, object, &ctx.hook);
             assert!(floor > 0.0, "{}: the hook lies inside", object.name());
             let mut ws = Workspace::new(&hand);
             for _ in 0..60 {
@@ -1274,6 +1279,19 @@ fn the_fdist_floor_bounds_every_valid_pose() {
                     object.name(),
                     e.terms.fdist
                 );
+                // Finger by finger too: a closed finger's term replaces its floor in the bound.
+                for (f, finger) in hand.fingers().iter().enumerate() {
+                    let (term, floor) = (
+                        ctx.finger_fdist(finger, &ws),
+                        finger_fdist_floor(&hand, f, ctx.hook_depth),
+                    );
+                    assert!(
+                        term >= floor,
+                        "{} {} finger {f}: {term} below its floor {floor}",
+                        hand.name(),
+                        object.name()
+                    );
+                }
                 // Just below its quality the pose counts and is evaluated to the end, with
                 // the same outcome; well above, the bound may stop it.
                 let below = ctx.evaluate_pose_to_beat(&rotation, &mut ws, e.quality - 1e-7);
