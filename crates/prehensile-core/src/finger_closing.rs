@@ -83,7 +83,7 @@ pub fn close_fingers_while(
         ws.touching[b] = false;
     }
     crate::kinematics::forward_kinematics(hand, root, &ws.rotations, &mut ws.world);
-    if fingers_close_apart(hand) {
+    if hand.fingers_close_apart() {
         for (f, finger) in hand.fingers().iter().enumerate() {
             let bones = finger.bones.iter().copied();
             close_together(hand, object, movement, params, bones, &mut outcome, ws);

@@ -465,6 +465,8 @@ impl HandModel {
             chain_predecessor,
             capsule_ranges,
             dof_names,
+            fingers_close_apart: false,
+            finger_floor_radii: Vec::new(),
         };
         model.couplings = parts
             .couplings
@@ -487,6 +489,11 @@ impl HandModel {
             })
             .collect::<Result<_, _>>()?;
         check_couplings(&model)?;
+        // Facts of the finished hand that every search evaluation asks for.
+        model.fingers_close_apart = crate::finger_closing::fingers_close_apart(&model);
+        model.finger_floor_radii = (0..model.fingers.len())
+            .map(|f| crate::search::finger_floor_radius(&model, f))
+            .collect();
         Ok(model)
     }
 

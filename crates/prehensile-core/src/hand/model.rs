@@ -189,6 +189,11 @@ pub struct HandModel {
     pub(crate) chain_predecessor: Vec<Option<usize>>,
     pub(crate) capsule_ranges: Vec<std::ops::Range<usize>>,
     pub(crate) dof_names: Vec<String>,
+    /// [`crate::finger_closing::fingers_close_apart`], worked out once when the hand is built.
+    pub(crate) fingers_close_apart: bool,
+    /// Per finger, [`crate::search::finger_floor_radius`], worked out once when the hand is
+    /// built.
+    pub(crate) finger_floor_radii: Vec<Option<f64>>,
 }
 
 impl HandModel {
@@ -299,6 +304,19 @@ impl HandModel {
     /// The previous bone in the same finger chain, `None` for a chain's first bone and the root.
     pub fn chain_predecessor(&self, bone: usize) -> Option<usize> {
         self.chain_predecessor[bone]
+    }
+
+    /// Can the fingers close one after another with the same outcome as together
+    /// ([`crate::finger_closing::fingers_close_apart`], kept from when the hand was built)?
+    pub fn fingers_close_apart(&self) -> bool {
+        self.fingers_close_apart
+    }
+
+    /// The radius finger `finger` adds to a hook's depth in its fDist floor, `None` for a finger
+    /// that adds no floor ([`crate::search::finger_floor_radius`], kept from when the hand was
+    /// built).
+    pub fn finger_floor_radius(&self, finger: usize) -> Option<f64> {
+        self.finger_floor_radii[finger]
     }
 
     /// The capsules attached to `bone`.

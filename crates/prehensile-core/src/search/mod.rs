@@ -23,8 +23,8 @@ pub use planner::{
     ONE_SIDED_PATIENCE, SAMPLES_PER_SLICE,
 };
 pub use quality::{
-    fdist_floor, finger_fdist_floor, hook_depth, one_sided_cap, Evaluation, Invalid, QualityTerms,
-    QualityWeights, ValidityRule, ONE_SIDED_CAP,
+    fdist_floor, finger_fdist_floor, finger_floor_radius, hook_depth, one_sided_cap, Evaluation,
+    Invalid, QualityTerms, QualityWeights, ValidityRule, ONE_SIDED_CAP,
 };
 pub use result::{GraspResult, RESULT_SCHEMA};
 pub use shared_planner::SharedPlanner;

@@ -433,9 +433,17 @@ fn fdist_floor_at(hand: &HandModel, depth: f64) -> f64 {
 /// ([`hook_depth`]): each finger's term of a valid pose is at least this on its own, so a
 /// finger once closed may replace its floor by its term.
 pub fn finger_fdist_floor(hand: &HandModel, finger: usize, depth: f64) -> f64 {
-    if depth <= 0.0 {
-        return 0.0;
+    match hand.finger_floor_radius(finger) {
+        Some(radius) if depth > 0.0 => (depth + radius - CONTACT_TOLERANCE).max(0.0),
+        _ => 0.0,
     }
+}
+
+/// The radius finger `finger` adds to a hook's depth in [`finger_fdist_floor`]: its thinnest
+/// capsule's, or `None` when the finger adds nothing (its last bone has no capsules, or finger
+/// closing may leave it unchecked). Depends on the hand alone; [`HandModel::finger_floor_radius`]
+/// keeps it from when the hand was built.
+pub fn finger_floor_radius(hand: &HandModel, finger: usize) -> Option<f64> {
     let finger = &hand.fingers()[finger];
     let has_capsules = |b: usize| !hand.bone_capsules(b).is_empty();
     let last = *finger.bones.last().expect("fingers have bones");
@@ -449,7 +457,7 @@ pub fn finger_fdist_floor(hand: &HandModel, finger: usize, depth: f64) -> f64 {
         || unchecked_follower
         || !crate::finger_closing::closes_checked(hand, finger)
     {
-        return 0.0;
+        return None;
     }
     let thinnest = finger
         .bones
@@ -457,7 +465,7 @@ pub fn finger_fdist_floor(hand: &HandModel, finger: usize, depth: f64) -> f64 {
         .flat_map(|&b| hand.bone_capsules(b))
         .map(|c| c.radius)
         .fold(f64::INFINITY, f64::min);
-    (depth + thinnest - CONTACT_TOLERANCE).max(0.0)
+    Some(thinnest)
 }
 
 impl EvaluationContext<'_> {
