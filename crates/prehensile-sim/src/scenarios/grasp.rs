@@ -9,8 +9,8 @@ use prehensile_core::{GraspMovement, HandModel, ObjectModel};
 
 use super::hold_test::hold_against;
 use super::{
-    case, grasp_arm, recording, step_until, CaseReport, GraspTimes, Options, PlannedGrasp,
-    Recording, HOLD_MOVE, HOLD_TURN_DEGREES, LIFT,
+    case, grasp_arm, recording, side_by_side, step_until, CaseReport, GraspTimes, Options,
+    PlannedGrasp, Recording, HOLD_MOVE, HOLD_TURN_DEGREES, LIFT,
 };
 use crate::simulation::{DistanceTo, HandSetup, Settings, Simulation};
 use crate::SimError;
@@ -276,7 +276,7 @@ fn example_closing(
 
 pub(crate) fn run(
     options: &Options,
-    progress: &mut dyn FnMut(&str, f64),
+    progress: &mut (dyn FnMut(&str, f64) + Send),
     add: &mut dyn FnMut((CaseReport, Recording)),
 ) -> Result<(), SimError> {
     let example = example_controller(options, progress)?;
@@ -284,7 +284,8 @@ pub(crate) fn run(
         .seconds
         .unwrap_or(super::Scenario::Grasp.default_seconds());
     let closing = example_closing(options, &example.controller, &example.grasp)?;
-    for (k, object) in options.objects.iter().enumerate() {
+    // The objects side by side: each searches and checks its own grasp and runs its own world.
+    let cases = side_by_side(&options.objects, progress, |k, object, progress| {
         // Each object after the first is searched along the controller's closing; when that
         // finds no valid grasp, along the hand's own movement.
         let (grasp, along_example, check) = if k == 0 {
@@ -326,7 +327,8 @@ pub(crate) fn run(
             f64::from(u8::from(along_example)),
         );
         check.add_to(&mut report);
-        add((report, recording));
-    }
+        Ok((report, recording))
+    })?;
+    cases.into_iter().for_each(add);
     Ok(())
 }

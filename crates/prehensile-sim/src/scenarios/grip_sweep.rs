@@ -3,28 +3,29 @@
 //! measured while the object is still held in place) grows with it.
 
 use super::grasp::{example_controller, grasp_case};
-use super::{CaseReport, Options, Recording, Scenario};
+use super::{side_by_side, CaseReport, Options, Recording, Scenario};
 use crate::SimError;
 
 /// The swept grip strengths.
 pub const ALPHAS: [f64; 6] = [0.0, 0.1, 0.2, 0.3, 0.4, 0.5];
 
+/// The example's grasp at every α of [`ALPHAS`], side by side.
 pub(crate) fn run(
     options: &Options,
-    progress: &mut dyn FnMut(&str, f64),
+    progress: &mut (dyn FnMut(&str, f64) + Send),
     add: &mut dyn FnMut((CaseReport, Recording)),
 ) -> Result<(), SimError> {
     let example = example_controller(options, progress)?;
-    let (mut controller, grasp) = (example.controller, example.grasp);
     let seconds = options
         .seconds
         .unwrap_or(Scenario::GripSweep.default_seconds());
-    for alpha in ALPHAS {
+    let cases = side_by_side(&ALPHAS, progress, |_, &alpha, progress| {
+        let mut controller = example.controller.clone();
         controller.alpha = alpha;
         let (mut report, rec) = grasp_case(
             &options.hand,
             &options.objects[0],
-            &grasp,
+            &example.grasp,
             &controller,
             options.settings,
             (super::GraspTimes::default(), seconds),
@@ -34,7 +35,8 @@ pub(crate) fn run(
         )?;
         report.metrics.insert("alpha".into(), alpha);
         example.check.add_to(&mut report);
-        add((report, rec));
-    }
+        Ok((report, rec))
+    })?;
+    cases.into_iter().for_each(add);
     Ok(())
 }

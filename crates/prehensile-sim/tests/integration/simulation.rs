@@ -491,6 +491,58 @@ fn the_grip_force_grows_with_grip_strength() {
 }
 
 #[test]
+fn the_sweeps_cases_run_side_by_side_as_they_run_one_after_another() {
+    let mut options = options(&["sphere"], 0.0);
+    options.seconds = Some(0.5);
+    let mut heard = Vec::new();
+    let (side_by_side, _) = scenarios::run(Scenario::GripSweep, &options, &mut |label, _| {
+        heard.push(label.to_string())
+    })
+    .unwrap();
+    let (one_after_another, _) = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap()
+        .install(|| scenarios::run(Scenario::GripSweep, &options, &mut |_, _| {}))
+        .unwrap();
+    // Everything but the wall-clock speeds.
+    let without_speeds = |report: &scenarios::RunReport| {
+        let mut value = serde_json::to_value(report).unwrap();
+        value.as_object_mut().unwrap().remove("realtime_factor");
+        for case in value["cases"].as_array_mut().unwrap() {
+            case.as_object_mut().unwrap().remove("realtime_factor");
+        }
+        value
+    };
+    assert_eq!(
+        without_speeds(&side_by_side),
+        without_speeds(&one_after_another)
+    );
+    let labels: Vec<&str> = side_by_side
+        .cases
+        .iter()
+        .map(|c| c.label.as_str())
+        .collect();
+    assert_eq!(
+        labels,
+        [
+            "alpha 0.0",
+            "alpha 0.1",
+            "alpha 0.2",
+            "alpha 0.3",
+            "alpha 0.4",
+            "alpha 0.5"
+        ]
+    );
+    for label in labels {
+        assert!(
+            heard.iter().any(|h| h == label),
+            "no progress heard from {label}"
+        );
+    }
+}
+
+#[test]
 fn arm_compensation_removes_most_of_the_finger_lag_of_a_shake() {
     let (report, _) = scenarios::run(Scenario::Shake, &options(&[], 0.0), &mut |_, _| {}).unwrap();
     let lag = |k: usize| report.cases[k].metrics["finger_lag_rms_rad"];
