@@ -4,7 +4,10 @@
 
 use prehensile_core::math::{Rotation, Transform, Vec3};
 
-use super::{case, recording, step_until, CaseReport, Options, PlannedGrasp, Recording, Scenario};
+use super::{
+    case, recording, side_by_side, step_until, CaseReport, Options, PlannedGrasp, Recording,
+    Scenario,
+};
 use crate::arm_trajectory::{ArmTrajectory, Waypoint};
 use crate::simulation::{DistanceTo, HandSetup, Simulation};
 use crate::SimError;
@@ -17,15 +20,16 @@ pub(crate) fn palm_down() -> Transform {
     )
 }
 
+/// The drop with and without the joint-limit springs, side by side.
 pub(crate) fn run(
     options: &Options,
-    progress: &mut dyn FnMut(&str, f64),
+    progress: &mut (dyn FnMut(&str, f64) + Send),
     add: &mut dyn FnMut((CaseReport, Recording)),
 ) -> Result<(), SimError> {
     let hand = &options.hand;
     let poses = PlannedGrasp::without_object(hand)?;
     let seconds = options.seconds.unwrap_or(Scenario::Drop.default_seconds());
-    for limits in [true, false] {
+    let cases = side_by_side(&[true, false], progress, |_, &limits, progress| {
         let mut controller = poses.controller(hand, &options.settings.gravity)?;
         controller.active = false;
         if !limits {
@@ -84,7 +88,8 @@ pub(crate) fn run(
         report
             .metrics
             .insert("final_max_deviation_from_neutral_rad".into(), sag);
-        add((report, recording(&sim, 1, None)));
-    }
+        Ok((report, recording(&sim, 1, None)))
+    })?;
+    cases.into_iter().for_each(add);
     Ok(())
 }

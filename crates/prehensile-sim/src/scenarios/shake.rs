@@ -6,7 +6,10 @@ use prehensile_control::Setpoint;
 use prehensile_core::math::Vec3;
 
 use super::drop_test::palm_down;
-use super::{case, recording, step_until, CaseReport, Options, PlannedGrasp, Recording, Scenario};
+use super::{
+    case, recording, side_by_side, step_until, CaseReport, Options, PlannedGrasp, Recording,
+    Scenario,
+};
 use crate::arm_trajectory::{ArmTrajectory, Shake, Waypoint};
 use crate::simulation::{DistanceTo, HandSetup, Simulation};
 use crate::SimError;
@@ -14,16 +17,16 @@ use crate::SimError;
 /// The shake starts here, seconds (the hand settles before).
 const SHAKE_FROM: f64 = 0.5;
 
+/// The shake with and without τARM, side by side.
 pub(crate) fn run(
     options: &Options,
-    progress: &mut dyn FnMut(&str, f64),
+    progress: &mut (dyn FnMut(&str, f64) + Send),
     add: &mut dyn FnMut((CaseReport, Recording)),
 ) -> Result<(), SimError> {
     let hand = &options.hand;
     let poses = PlannedGrasp::without_object(hand)?;
     let seconds = options.seconds.unwrap_or(Scenario::Shake.default_seconds());
-    let mut lags = Vec::new();
-    for compensate_arm in [true, false] {
+    let cases = side_by_side(&[true, false], progress, |_, &compensate_arm, progress| {
         let controller = poses.controller(hand, &options.settings.gravity)?;
         let start = controller.setpoints.positions[Setpoint::Neutral].clone();
         let arm = ArmTrajectory::new(vec![Waypoint {
@@ -78,8 +81,8 @@ pub(crate) fn run(
         };
         report.metrics.insert("finger_lag_rms_rad".into(), rms);
         report.metrics.insert("finger_lag_max_rad".into(), max);
-        lags.push(rms);
-        add((report, recording(&sim, 1, None)));
-    }
+        Ok((report, recording(&sim, 1, None)))
+    })?;
+    cases.into_iter().for_each(add);
     Ok(())
 }
