@@ -467,7 +467,14 @@ impl HandModel {
             dof_names,
             fingers_close_apart: false,
             finger_floor_radii: Vec::new(),
+            dof_bones: Vec::new(),
         };
+        model.dof_bones = model
+            .bones
+            .iter()
+            .enumerate()
+            .flat_map(|(b, bone)| std::iter::repeat_n(b, bone.joint.dofs()))
+            .collect();
         model.couplings = parts
             .couplings
             .iter()

@@ -194,6 +194,8 @@ pub struct HandModel {
     /// Per finger, [`crate::search::finger_floor_radius`], worked out once when the hand is
     /// built.
     pub(crate) finger_floor_radii: Vec<Option<f64>>,
+    /// The bone of each degree of freedom, worked out once when the hand is built.
+    pub(crate) dof_bones: Vec<usize>,
 }
 
 impl HandModel {
@@ -329,12 +331,9 @@ impl HandModel {
         self.capsule_ranges[bone].clone()
     }
 
-    /// The bone whose joint has degree of freedom `dof`.
+    /// The bone whose joint has degree of freedom `dof` (less than [`HandModel::dof_count`]).
     pub fn bone_of_dof(&self, dof: usize) -> usize {
-        self.bones
-            .iter()
-            .rposition(|b| b.first_dof <= dof && b.joint.dofs() > 0)
-            .unwrap_or(0)
+        self.dof_bones[dof]
     }
 
     /// Joint angles with limits applied and coupling rules enforced. For a [rigid](Coupling::rigid)
