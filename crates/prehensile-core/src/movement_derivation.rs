@@ -211,36 +211,36 @@ fn rotations(hand: &HandModel, q: &[f64]) -> Vec<Rotation> {
     r
 }
 
+/// A capsule placed in the hand frame: its ends and radius.
+type PlacedCapsule = (Point3, Point3, f64);
+
 /// Summed overlap depth (metres) of finger `f`'s capsules with those of fingers `others`, all
 /// placed by `world`.
 fn finger_overlap(hand: &HandModel, world: &[Transform], f: usize, others: &[usize]) -> f64 {
-    let mut scratch = Vec::new();
-    finger_overlap_into(hand, world, f, others, &mut scratch)
+    let (mut own, mut placed_others) = (Vec::new(), Vec::new());
+    place_capsules(hand, world, f, &mut own);
+    for &g in others {
+        place_capsules(hand, world, g, &mut placed_others);
+    }
+    overlap_between(&own, &placed_others)
 }
 
-/// [`finger_overlap`], with the placed capsules kept in `placed` (reused from call to call:
-/// the coordinate descent asks this thousands of times per hand).
-fn finger_overlap_into(
+/// Appends finger `finger`'s capsules, placed by `world`, to `placed`.
+fn place_capsules(
     hand: &HandModel,
     world: &[Transform],
-    f: usize,
-    others: &[usize],
-    placed: &mut Vec<(Point3, Point3, f64)>,
-) -> f64 {
-    let place = |finger: usize, placed: &mut Vec<_>| {
-        for &b in &hand.fingers()[finger].bones {
-            for c in hand.bone_capsules(b) {
-                placed.push((world[b] * c.a, world[b] * c.b, c.radius));
-            }
+    finger: usize,
+    placed: &mut Vec<PlacedCapsule>,
+) {
+    for &b in &hand.fingers()[finger].bones {
+        for c in hand.bone_capsules(b) {
+            placed.push((world[b] * c.a, world[b] * c.b, c.radius));
         }
-    };
-    placed.clear();
-    place(f, placed);
-    let own = placed.len();
-    for &g in others {
-        place(g, placed);
     }
-    let (own, others) = placed.split_at(own);
+}
+
+/// Summed overlap depth of every capsule of `own` with every capsule of `others`, metres.
+fn overlap_between(own: &[PlacedCapsule], others: &[PlacedCapsule]) -> f64 {
     let mut sum = 0.0;
     for one in own {
         for other in others {
@@ -312,25 +312,53 @@ fn reach_target(hand: &HandModel, q: &mut [f64], f: usize, target: &Point3) {
     };
     let rest_overlap = finger_overlap(hand, &rest, f, &neighbours);
     // Buffers for the thousands of poses the descent tries, which place only the bones it reads:
-    // the root's, the finger's and its neighbours'.
+    // the root's, the finger's and its neighbours'. The root and the neighbours move only when
+    // a coupling moves them with the finger, so their capsules are placed again only then.
     let mut posed: Vec<usize> = std::iter::once(f)
         .chain(neighbours.iter().copied())
         .flat_map(|g| hand.fingers()[g].bones.iter().copied())
         .chain([0])
         .collect();
     posed.sort_unstable();
+    let own_bones = &hand.fingers()[f].bones;
+    let held_dofs: Vec<usize> = std::iter::once(0)
+        .chain(
+            neighbours
+                .iter()
+                .flat_map(|&g| hand.fingers()[g].bones.iter().copied()),
+        )
+        .flat_map(|b| {
+            let bone = &hand.bones()[b];
+            bone.first_dof..bone.first_dof + bone.joint.dofs()
+        })
+        .collect();
+    // The held angles' bits when the neighbours' capsules were placed.
+    let mut held_at: Option<Vec<u64>> = None;
     let mut rotations = vec![Rotation::identity(); hand.bones().len()];
     let mut world = vec![Transform::identity(); hand.bones().len()];
-    let mut placed = Vec::new();
+    let (mut own, mut others) = (Vec::new(), Vec::new());
     let mut distance = |q: &[f64]| {
-        for &b in &posed {
+        let held = held_at
+            .as_ref()
+            .is_some_and(|at| held_dofs.iter().zip(at).all(|(&k, &v)| q[k].to_bits() == v));
+        let bones = if held { own_bones } else { &posed };
+        for &b in bones {
             let bone = &hand.bones()[b];
             rotations[b] = bone
                 .joint
                 .rotation(&q[bone.first_dof..bone.first_dof + bone.joint.dofs()]);
         }
-        forward_kinematics_of(hand, &Transform::identity(), &rotations, &posed, &mut world);
-        let overlap = finger_overlap_into(hand, &world, f, &neighbours, &mut placed);
+        forward_kinematics_of(hand, &Transform::identity(), &rotations, bones, &mut world);
+        if !held {
+            others.clear();
+            for &g in &neighbours {
+                place_capsules(hand, &world, g, &mut others);
+            }
+            held_at = Some(held_dofs.iter().map(|&k| q[k].to_bits()).collect());
+        }
+        own.clear();
+        place_capsules(hand, &world, f, &mut own);
+        let overlap = overlap_between(&own, &others);
         (tip(hand, &world, f) - target).norm() + OVERLAP_WEIGHT * (overlap - rest_overlap).max(0.0)
     };
     let mut best = distance(q);
