@@ -251,10 +251,7 @@ fn overlap_between(own: &[PlacedCapsule], others: &[PlacedCapsule]) -> f64 {
 }
 
 /// How deep two capsules (ends and radius) overlap, metres: 0 when they are apart.
-fn capsule_overlap(
-    (a1, b1, r1): &(Point3, Point3, f64),
-    (a2, b2, r2): &(Point3, Point3, f64),
-) -> f64 {
+fn capsule_overlap((a1, b1, r1): &PlacedCapsule, (a2, b2, r2): &PlacedCapsule) -> f64 {
     // Capsules whose bounding spheres keep them more than the radii apart are exactly 0, as the
     // distance below would find (the 1 nm covers its rounding); most pairs are such.
     let reach = 0.5 * ((b1 - a1).norm() + (b2 - a2).norm()) + r1 + r2 + 1e-9;

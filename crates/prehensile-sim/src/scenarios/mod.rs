@@ -238,8 +238,9 @@ pub struct Recording {
 }
 
 /// Runs a scenario; returns the report and the first case's recording. `progress` hears a
-/// case's label and how much of it is done; the independent cases of `grip-sweep` and `grasp`
-/// run side by side on rayon's pool, so it may hear them from several threads, one at a time.
+/// case's label and how much of it is done; the independent cases of `drop`, `grasp`,
+/// `grip-sweep` and `shake` run side by side on rayon's pool, so it may hear them from several
+/// threads, one at a time.
 pub fn run(
     scenario: Scenario,
     options: &Options,
