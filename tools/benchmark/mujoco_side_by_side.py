@@ -16,6 +16,7 @@ MuJoCo's analytic sphere: the same scene geometry on both sides.
 
 Run from the repository root (after `pip install mujoco==4.0.0`):
     python3 tools/benchmark/mujoco_side_by_side.py [--pairs N] [--object primitive|mesh]
+        [--engine rapier|reduced]
 The two engines take turns, N pairs of blocks per step length (default 30): STEPS steps of
 Prehensile, then the same of MuJoCo, each timed as the median of blocks of 100 steps. The machine's
 speed drifts by tens of percent within minutes (a shared 2-core machine), so each ratio comes
@@ -133,14 +134,15 @@ def sphere_position(model, data):
     return data.qpos[model.jnt_qposadr[model.joint("object").id] :][:3].copy()
 
 
-def prehensile() -> StepTiming:
-    """The step_timing example, built and started once for every step length."""
+def prehensile(engine: str) -> StepTiming:
+    """The step_timing example on `engine`, built and started once for every step length."""
     subprocess.run(
         ["cargo", "build", "--release", "-p", "prehensile-sim", "--example", "step_timing"],
         cwd=ROOT, check=True,
     )
     return StepTiming(
-        ROOT / "target/release/examples/step_timing", HAND / "reach.xml", STEPS, cwd=ROOT
+        ROOT / "target/release/examples/step_timing", HAND / "reach.xml", STEPS, cwd=ROOT,
+        engine=engine,
     )
 
 
@@ -154,11 +156,13 @@ def main():
     parser.add_argument("--pairs", type=int, default=30, help="alternating blocks per step length")
     parser.add_argument("--object", choices=["primitive", "mesh"], default="primitive",
                         help="MuJoCo's sphere: its analytic sphere, or Prehensile's sphere mesh")
+    parser.add_argument("--engine", choices=["rapier", "reduced"], default="rapier",
+                        help="Prehensile's engine (prehensile simulate --engine)")
     arguments = parser.parse_args()
     pairs = arguments.pairs
     if pairs < 2:
         parser.error("--pairs must be at least 2")
-    ours_engine = prehensile()
+    ours_engine = prehensile(arguments.engine)
     with tempfile.TemporaryDirectory() as directory:
         directory = pathlib.Path(directory)
         mesh = sphere_mesh(directory) if arguments.object == "mesh" else None

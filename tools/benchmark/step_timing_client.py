@@ -5,12 +5,12 @@ import sys
 
 
 class StepTiming:
-    """One step_timing process: `binary HAND DT...`, then `DT STEPS` lines answered with the
-    median microseconds per step of that many steps."""
+    """One step_timing process: `binary [--engine ENGINE] HAND DT...`, then `DT STEPS` lines
+    answered with the median microseconds per step of that many steps."""
 
-    def __init__(self, binary: str, hand: str, dts, cwd=None):
+    def __init__(self, binary: str, hand: str, dts, cwd=None, engine: str = "rapier"):
         self.process = subprocess.Popen(
-            [str(binary), str(hand)] + [str(dt) for dt in dts],
+            [str(binary), "--engine", engine, str(hand)] + [str(dt) for dt in dts],
             cwd=cwd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
         )
         if self.process.stdout.readline().strip() != "ready":

@@ -1,9 +1,10 @@
 //! Times blocks of simulation steps on request, for side-by-side timing with another engine
 //! that takes turns with it block by block (tools/benchmark/mujoco_side_by_side.py).
 //!
-//! `cargo run --release -p prehensile-sim --example step_timing -- HAND DT...` builds, for every
-//! step length DT (seconds), the hand HAND (a hand file or built-in name) holding the built-in
-//! sphere still ([`prehensile_sim::scenarios::held_still`], the default solver for DT), prints `ready`,
+//! `cargo run --release -p prehensile-sim --example step_timing -- [--engine ENGINE] HAND DT...`
+//! builds, for every step length DT (seconds), the hand HAND (a hand file or built-in name)
+//! holding the built-in sphere still ([`prehensile_sim::scenarios::held_still`], the default
+//! solver for DT; ENGINE `rapier`, the default, or `reduced`), prints `ready`,
 //! then answers each line `DT STEPS` on standard input with the median microseconds per step of
 //! that many steps, timed in blocks of 100. The published numbers come from the criterion
 //! benchmark (`cargo bench -p prehensile-bench --bench simulation`); this only lets the two
@@ -14,12 +15,21 @@ use std::time::Instant;
 
 use prehensile_core::{shapes, ObjectModel};
 use prehensile_sim::scenarios::held_still;
-use prehensile_sim::Settings;
+use prehensile_sim::{Engine, Settings};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    let engine = if args.first().is_some_and(|a| a == "--engine") && args.len() > 1 {
+        let name = args.drain(..2).nth(1).unwrap_or_default();
+        Engine::from_name(&name).ok_or_else(|| format!("unknown engine '{name}'"))?
+    } else {
+        Engine::Rapier
+    };
     let Some((hand, steps)) = args.split_first() else {
-        return Err("usage: step_timing HAND DT... (e.g. human 0.0002 0.001)".into());
+        return Err(
+            "usage: step_timing [--engine rapier|reduced] HAND DT... (e.g. human 0.0002 0.001)"
+                .into(),
+        );
     };
     let hand = prehensile_formats::builtin_hand(hand).map_or_else(
         || prehensile_formats::load_hand(std::path::Path::new(hand)),
@@ -31,7 +41,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let dt: f64 = dt
             .parse()
             .map_err(|_| format!("step length '{dt}' is not a number"))?;
-        scenes.push((dt, held_still(&hand, &sphere, Settings::for_step(dt))?));
+        let settings = Settings {
+            engine,
+            ..Settings::for_step(dt)
+        };
+        scenes.push((dt, held_still(&hand, &sphere, settings)?));
     }
     println!("ready");
     for line in std::io::stdin().lock().lines() {

@@ -11,6 +11,10 @@ mod articulated_hand;
 mod convert;
 mod holding_wrench;
 mod object_body;
+mod physics_engine;
+mod projected_gauss_seidel;
+mod rapier_world;
+mod reduced_world;
 pub mod scenarios;
 mod simulation;
 
@@ -18,6 +22,7 @@ pub use arm_trajectory::{ArmTrajectory, Shake, Waypoint};
 pub use articulated_hand::{check_hand, hand_groups, ArticulatedHand, INTERMEDIATE_MASS_FRACTION};
 pub use holding_wrench::{holding_wrench, FrameMotion};
 pub use object_body::{object_shape, ObjectBody, ObjectShape, OBJECT_GROUP};
+pub use physics_engine::Engine;
 pub use simulation::{Contacts, DistanceTo, HandSetup, Settings, Simulation, StateChange};
 
 /// Why a simulation cannot run or stopped.

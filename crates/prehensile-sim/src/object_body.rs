@@ -11,8 +11,8 @@ use prehensile_core::math::Transform;
 use prehensile_core::ObjectModel;
 use rapier3d_f64::parry::transformation::vhacd::VHACDParameters;
 use rapier3d_f64::prelude::{
-    ColliderBuilder, ColliderHandle, Group, InteractionGroups, InteractionTestMode, PhysicsWorld,
-    RigidBodyBuilder, RigidBodyHandle, RigidBodyType, SharedShape, Vector,
+    ColliderBuilder, ColliderHandle, Group, InteractionGroups, InteractionTestMode, MassProperties,
+    PhysicsWorld, RigidBodyBuilder, RigidBodyHandle, RigidBodyType, SharedShape, Vector,
 };
 
 use crate::{convert, SimError};
@@ -67,6 +67,26 @@ pub fn object_shape(object: &ObjectModel) -> Result<(SharedShape, ObjectShape), 
     Ok((shape, ObjectShape::ConvexDecomposition(parts)))
 }
 
+/// The exact mass properties of `object` as a solid of `density` kg/m³ (the closed mesh, not
+/// its collision shape), in the object's frame.
+pub(crate) fn solid_mass_properties(
+    object: &ObjectModel,
+    density: f64,
+) -> Result<MassProperties, SimError> {
+    if !(density.is_finite() && density > 0.0) {
+        return Err(SimError::Settings(format!(
+            "object density {density} kg/m³ must be positive"
+        )));
+    }
+    let mesh = object.mesh();
+    let solid = SharedShape::trimesh(
+        mesh.vertices.iter().map(convert::point).collect(),
+        mesh.triangles.clone(),
+    )
+    .map_err(|e| SimError::Object(format!("object '{}': {e}", object.name())))?;
+    Ok(solid.mass_properties(density))
+}
+
 impl ObjectBody {
     /// Adds `object` at `pose` with the given density (kg/m³) and friction; `fixed` holds it in
     /// place (a kinematic body) until [`ObjectBody::let_go`].
@@ -78,20 +98,8 @@ impl ObjectBody {
         friction: f64,
         fixed: bool,
     ) -> Result<Self, SimError> {
-        if !(density.is_finite() && density > 0.0) {
-            return Err(SimError::Settings(format!(
-                "object density {density} kg/m³ must be positive"
-            )));
-        }
         let (shape, kind) = object_shape(object)?;
-        // Exact mass properties: the closed mesh as a solid.
-        let mesh = object.mesh();
-        let solid = SharedShape::trimesh(
-            mesh.vertices.iter().map(convert::point).collect(),
-            mesh.triangles.clone(),
-        )
-        .map_err(|e| SimError::Object(format!("object '{}': {e}", object.name())))?;
-        let props = solid.mass_properties(density);
+        let props = solid_mass_properties(object, density)?;
         let kind_of_body = if fixed {
             RigidBodyType::KinematicPositionBased
         } else {

@@ -1,7 +1,8 @@
 //! A simulation: hands, each driven by its own grasp controller along a prescribed arm
-//! trajectory, and at most one object, in a rapier world with gravity and friction. Every step
-//! reads each hand's joint state, advances its state machine, sets its joint springs (τP + τA)
-//! and compensation (τG + τARM, as body wrenches), steps the world, and checks that nothing diverged.
+//! trajectory, and at most one object, in a world with gravity and friction stepped by one of
+//! the [`Engine`]s. Every step reads each hand's joint state, advances its state machine, sets
+//! its joint springs (τP + τA) and compensation (τG + τARM), steps the world, and checks that
+//! nothing diverged.
 
 use prehensile_control::{
     ball_joint_coupling, joint_springs, outboard_inertia_into, ControllerState, DynamicsData,
@@ -10,17 +11,13 @@ use prehensile_control::{
 use prehensile_core::animation::Keyframe;
 use prehensile_core::math::{Point3, Rotation, Transform, Vec3};
 use prehensile_core::{HandModel, ObjectModel};
-use rapier3d_f64::prelude::{Group, PhysicsWorld};
 
 use crate::arm_trajectory::ArmTrajectory;
-use crate::articulated_hand::{check_hand, ArticulatedHand};
-use crate::holding_wrench::FrameMotion;
-use crate::object_body::ObjectBody;
-use crate::{convert, SimError};
-
-/// How far a bone may come off its joint before the run counts as diverged, metres. In every
-/// scenario, for both hands at 0.2 and 1 ms, the joints stay within 0.1 mm.
-const JOINT_GAP_LIMIT: f64 = 0.005;
+use crate::articulated_hand::check_hand;
+use crate::physics_engine::{Engine, HandDrive, PhysicsEngine};
+use crate::rapier_world::RapierWorld;
+use crate::reduced_world::ReducedWorld;
+use crate::SimError;
 
 /// World settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -42,6 +39,8 @@ pub struct Settings {
     pub inner_iterations: usize,
     /// Frames per second of the recording (for animation export).
     pub record_fps: f64,
+    /// The engine that steps the world.
+    pub engine: Engine,
 }
 
 impl Default for Settings {
@@ -63,6 +62,7 @@ impl Settings {
             solver_iterations: Self::iterations_for(dt),
             inner_iterations: Self::inner_iterations_for(dt),
             record_fps: 60.0,
+            engine: Engine::Rapier,
         }
     }
 
@@ -205,7 +205,6 @@ pub struct Contacts {
 
 struct SimHand {
     setup: HandSetup,
-    body: ArticulatedHand,
     q: Vec<f64>,
     qd: Vec<f64>,
     palm_local: Transform,
@@ -223,9 +222,12 @@ struct SimHand {
 /// A running simulation.
 pub struct Simulation {
     settings: Settings,
-    world: PhysicsWorld,
+    engine: Box<dyn PhysicsEngine>,
     hands: Vec<SimHand>,
-    object: Option<ObjectBody>,
+    /// The object's mass, kg, once it is added.
+    object_mass: Option<f64>,
+    /// The bone frames of a recorded hand (kept to reuse).
+    frames: Vec<Transform>,
     object_frames: Vec<Transform>,
     time: f64,
     steps: u64,
@@ -238,25 +240,16 @@ impl Simulation {
     /// An empty world.
     pub fn new(settings: Settings) -> Result<Self, SimError> {
         settings.check()?;
-        let mut world = PhysicsWorld::new();
-        world.gravity = convert::vector(&settings.gravity);
-        world.integration_parameters.dt = settings.dt;
-        // Hands are centimetre-sized: tolerances scale with the length unit.
-        world.integration_parameters.length_unit = 0.01;
-        world.integration_parameters.num_solver_iterations = settings.solver_iterations;
-        world.integration_parameters.num_internal_pgs_iterations = settings.inner_iterations;
-        // Joint chains converge far better when joint impulses carry over between steps.
-        world.integration_parameters.warmstart_joints = true;
-        // No CCD: rapier's automatic CCD sweeps fast bodies against fixed colliders only, and
-        // this world has none (the palm is kinematic, the object dynamic), so its per-body
-        // checks were 3–4% of a step for nothing.
-        world.integration_parameters.max_ccd_substeps = 0;
-
+        let engine: Box<dyn PhysicsEngine> = match settings.engine {
+            Engine::Rapier => Box::new(RapierWorld::new(&settings)),
+            Engine::Reduced => Box::new(ReducedWorld::new(&settings)),
+        };
         Ok(Self {
             settings,
-            world,
+            engine,
             hands: Vec::new(),
-            object: None,
+            object_mass: None,
+            frames: Vec::new(),
             object_frames: Vec::new(),
             time: 0.0,
             steps: 0,
@@ -302,16 +295,8 @@ impl Simulation {
         if self.hands.len() >= 30 {
             return Err(SimError::Settings("at most 30 hands".into()));
         }
-        let group = Group::from_bits_truncate(Group::GROUP_2.bits() << self.hands.len());
-        let root = setup.arm.at(0.0);
-        let body = ArticulatedHand::insert(
-            hand,
-            &mut self.world,
-            &root,
-            &setup.start,
-            group,
-            self.settings.friction,
-        );
+        self.engine
+            .add_hand(hand, &setup.arm.at(0.0), &setup.start)?;
         let palm_local = hand.bones()[0].rest;
         let dynamics = DynamicsModel::new(hand);
         let spring = JointSpring {
@@ -329,7 +314,6 @@ impl Simulation {
             q: setup.start.clone(),
             qd: vec![0.0; n],
             setup,
-            body,
             palm_local,
             frames: Vec::new(),
         });
@@ -337,28 +321,21 @@ impl Simulation {
     }
 
     /// Adds the object at `pose`; `fixed` holds it until [`Simulation::let_go_object`].
+    /// Returns its mass, kg.
     pub fn add_object(
         &mut self,
         object: &ObjectModel,
         pose: &Transform,
         fixed: bool,
-    ) -> Result<&ObjectBody, SimError> {
-        let body = ObjectBody::insert(
-            &mut self.world,
-            object,
-            pose,
-            self.settings.object_density,
-            self.settings.friction,
-            fixed,
-        )?;
-        Ok(self.object.insert(body))
+    ) -> Result<f64, SimError> {
+        let mass = self.engine.add_object(object, pose, fixed)?;
+        self.object_mass = Some(mass);
+        Ok(mass)
     }
 
     /// Lets a fixed object go.
     pub fn let_go_object(&mut self) {
-        if let Some(o) = &self.object {
-            o.let_go(&mut self.world);
-        }
+        self.engine.let_go_object();
     }
 
     /// Seconds simulated.
@@ -399,18 +376,17 @@ impl Simulation {
 
     /// The object's pose, if there is one.
     pub fn object_pose(&self) -> Option<Transform> {
-        self.object.as_ref().map(|o| o.pose(&self.world))
+        self.engine.object_pose()
     }
 
-    /// The object body.
-    pub fn object(&self) -> Option<&ObjectBody> {
-        self.object.as_ref()
+    /// The object's mass, kg, if there is an object.
+    pub fn object_mass(&self) -> Option<f64> {
+        self.object_mass
     }
 
     /// Hand `i`'s root placement now.
     pub fn root(&self, i: usize) -> Transform {
-        let palm = convert::transform(self.world.bodies[self.hands[i].body.root_body()].position());
-        palm * self.hands[i].palm_local.inverse()
+        self.engine.palm(i) * self.hands[i].palm_local.inverse()
     }
 
     /// The state machine's changes so far.
@@ -433,44 +409,9 @@ impl Simulation {
         &self.hands[i].setup.hand
     }
 
-    /// The deepest penetration of hand `i` into anything outside it this step, metres.
-    fn penetration(&self, i: usize) -> f64 {
-        let body = &self.hands[i].body;
-        body.colliders()
-            .iter()
-            .flat_map(|&collider| self.world.narrow_phase.contact_pairs_with(collider))
-            .flat_map(|pair| pair.manifolds())
-            .flat_map(|manifold| &manifold.points)
-            .fold(0.0, |deepest: f64, point| deepest.max(-point.dist))
-    }
-
     /// Contacts of hand `i` with everything outside it, this step.
     pub fn contacts(&self, i: usize) -> Contacts {
-        let body = &self.hands[i].body;
-        let mut c = Contacts {
-            bone_forces: vec![0.0; body.bone_bodies().len()],
-            ..Contacts::default()
-        };
-        let dt = self.settings.dt;
-        for (&collider, &bone) in body.colliders().iter().zip(body.collider_bones()) {
-            let mut touching = false;
-            for pair in self.world.narrow_phase.contact_pairs_with(collider) {
-                for manifold in pair.manifolds() {
-                    for point in &manifold.points {
-                        if point.dist <= 0.0 {
-                            c.penetration = c.penetration.max(-point.dist);
-                        }
-                        if point.data.impulse > 0.0 {
-                            touching = true;
-                            c.force += point.data.impulse / dt;
-                            c.bone_forces[bone] += point.data.impulse / dt;
-                        }
-                    }
-                }
-            }
-            c.touching += usize::from(touching);
-        }
-        c
+        self.engine.contacts(i)
     }
 
     fn distance(&self, i: usize) -> f64 {
@@ -496,7 +437,7 @@ impl Simulation {
     /// Advances one step.
     pub fn step(&mut self) -> Result<(), SimError> {
         self.drive_hands()?;
-        self.world.step();
+        self.engine.step()?;
         self.time += self.settings.dt;
         self.steps += 1;
         self.check_step()
@@ -514,7 +455,7 @@ impl Simulation {
         for i in 0..self.hands.len() {
             let distance = self.distance(i);
             let h = &mut self.hands[i];
-            h.body.state(&self.world, &mut h.q, &mut h.qd);
+            self.engine.joint_state(i, &mut h.q, &mut h.qd);
             for &(at, choice) in &h.setup.manual {
                 if at <= self.time && at > self.time - dt {
                     h.control.manual_setpoint = choice;
@@ -548,25 +489,19 @@ impl Simulation {
                 &mut h.springs,
             );
             ball_joint_coupling(inertia, &h.springs, &h.q, &h.qd, &mut h.coupling);
-            let palm = if h.setup.compensate_arm {
-                h.setup.arm.frame_motion(self.time, &h.palm_local)
-            } else {
-                let origin = (h.setup.arm.at(self.time) * h.palm_local)
-                    .translation
-                    .vector;
-                FrameMotion::at_rest(origin.into())
-            };
-            let gravity = if h.setup.compensate_gravity {
-                self.settings.gravity
-            } else {
-                Vec3::zeros()
-            };
             let h = &self.hands[i];
-            h.body.drive(&mut self.world, &h.springs, &h.q, &h.coupling);
-            if h.setup.compensate_gravity || h.setup.compensate_arm {
-                h.body.hold(&mut self.world, &palm, &gravity);
-            }
-            h.body.move_root(&mut self.world, &h.setup.arm.at(next));
+            self.engine.drive(
+                i,
+                &HandDrive {
+                    q: &h.q,
+                    springs: &h.springs,
+                    coupling: &h.coupling,
+                    palm: h.setup.arm.frame_motion(self.time, &h.palm_local),
+                    compensate_gravity: h.setup.compensate_gravity,
+                    compensate_arm: h.setup.compensate_arm,
+                    next_root: h.setup.arm.at(next),
+                },
+            )?;
         }
         Ok(())
     }
@@ -574,73 +509,21 @@ impl Simulation {
     /// After the world stepped: the deepest penetration so far, and whether anything diverged.
     fn check_step(&mut self) -> Result<(), SimError> {
         for i in 0..self.hands.len() {
-            self.max_penetration = self.max_penetration.max(self.penetration(i));
+            self.max_penetration = self.max_penetration.max(self.engine.penetration(i));
         }
-        self.check_diverged()
-    }
-
-    /// Stops at the first bone off its joint, non-finite or runaway body, naming the bone (or
-    /// the object).
-    fn check_diverged(&mut self) -> Result<(), SimError> {
-        // Faster than anything a hand does: 2000 rad/s, 50 m/s.
-        let runaway = |b: &rapier3d_f64::prelude::RigidBody| {
-            let p = b.position();
-            !(p.translation.is_finite()
-                && p.rotation.is_finite()
-                && b.angvel().length() < 2000.0
-                && b.linvel().length() < 50.0)
-        };
-        for (i, h) in self.hands.iter().enumerate() {
-            if let Some((k, gap)) = h.body.widest_joint_gap(&self.world) {
-                if gap > JOINT_GAP_LIMIT {
-                    return Err(SimError::Diverged {
-                        time: self.time,
-                        what: format!(
-                            "hand {i}, bone '{}' came {:.1} mm off its joint: lower the gains or \
-                             the time step",
-                            h.setup.hand.bones()[k].name,
-                            gap * 1e3
-                        ),
-                    });
-                }
-            }
-            for (k, body) in h.body.bone_bodies().iter().enumerate() {
-                if runaway(&self.world.bodies[*body]) {
-                    let bone = &h.setup.hand.bones()[k];
-                    return Err(SimError::Diverged {
-                        time: self.time,
-                        what: format!(
-                            "hand {i}, bone '{}' (joint {}) ran away: lower the gains or the time step",
-                            bone.name,
-                            h.setup
-                                .hand
-                                .dof_names()
-                                .get(bone.first_dof)
-                                .map_or("fixed", |s| s.as_str())
-                        ),
-                    });
-                }
-            }
+        match self.engine.diverged() {
+            Some(what) => Err(SimError::Diverged {
+                time: self.time,
+                what,
+            }),
+            None => Ok(()),
         }
-        if let Some(o) = &self.object {
-            if runaway(&self.world.bodies[o.body]) {
-                return Err(SimError::Diverged {
-                    time: self.time,
-                    what: "the object ran away".into(),
-                });
-            }
-        }
-        Ok(())
     }
 
     fn record(&mut self) {
-        for h in &mut self.hands {
-            let frames: Vec<Transform> = h
-                .body
-                .bone_bodies()
-                .iter()
-                .map(|b| convert::transform(self.world.bodies[*b].position()))
-                .collect();
+        for (i, h) in self.hands.iter_mut().enumerate() {
+            self.engine.bone_frames(i, &mut self.frames);
+            let frames = &self.frames;
             let bones = h.setup.hand.bones();
             let rotations = bones
                 .iter()
@@ -675,7 +558,9 @@ mod tests {
     //! (rapier's own `PhysicsWorld::step` allocates about ten times a step inside its pipeline;
     //! that is not ours to change).
 
-    use prehensile_core::allocation_count::{allocations, CountingAllocator};
+    use prehensile_core::allocation_count::{
+        allocations_on_this_thread as allocations, CountingAllocator,
+    };
     use prehensile_core::{shapes, ObjectModel};
 
     use crate::scenarios::held_still;
@@ -705,7 +590,7 @@ mod tests {
             let before = allocations();
             sim.drive_hands().unwrap();
             let driven = allocations();
-            sim.world.step();
+            sim.engine.step().unwrap();
             sim.time += sim.settings.dt;
             let stepped = allocations();
             sim.check_step().unwrap();

@@ -3,7 +3,7 @@
 
 use indicatif::{ProgressBar, ProgressStyle};
 use prehensile_sim::scenarios::{self, Options, Scenario};
-use prehensile_sim::Settings;
+use prehensile_sim::{Engine, Settings};
 
 use super::write_file as write;
 use crate::args::SimulateArgs;
@@ -16,6 +16,13 @@ pub fn run(args: &SimulateArgs) -> Result<i32, CliError> {
             "unknown scenario '{}'; choose one of {}",
             args.scenario,
             Scenario::NAMES.join(", ")
+        ))
+    })?;
+    let engine = Engine::from_name(&args.engine).ok_or_else(|| {
+        CliError::Usage(format!(
+            "unknown engine '{}'; choose one of {}",
+            args.engine,
+            Engine::NAMES.join(", ")
         ))
     })?;
     let hand = sources::hand(&args.hand)?;
@@ -43,6 +50,7 @@ pub fn run(args: &SimulateArgs) -> Result<i32, CliError> {
             inner_iterations: args
                 .inner_iterations
                 .unwrap_or_else(|| Settings::inner_iterations_for(args.dt)),
+            engine,
             ..Settings::for_step(args.dt)
         },
         seconds: args.seconds,

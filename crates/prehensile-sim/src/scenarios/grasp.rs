@@ -98,8 +98,8 @@ pub(crate) fn grasp_case(
             .metrics
             .insert("bones_touching_at_let_go".into(), bones_touching as f64);
     }
-    if let Some(body) = sim.object() {
-        report.metrics.insert("object_mass_kg".into(), body.mass);
+    if let Some(mass) = sim.object_mass() {
+        report.metrics.insert("object_mass_kg".into(), mass);
     }
     report.metrics.insert(
         "fingers_touching_planned".into(),

@@ -132,7 +132,7 @@ pub(crate) fn hold_against(
     direction: &'static str,
 ) -> Result<(HoldDirection, f64), SimError> {
     let (mut sim, times) = closing_on_fixed_object(hand, object, grasp, controller, settings)?;
-    let mass = sim.object().map_or(0.0, |o| o.mass);
+    let mass = sim.object_mass().unwrap_or(0.0);
     let in_hand = |sim: &Simulation| {
         let o = sim.object_pose().expect("the test has an object");
         sim.root(0).inverse() * o
