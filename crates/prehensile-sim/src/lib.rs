@@ -14,6 +14,7 @@ mod object_body;
 mod physics_engine;
 mod projected_gauss_seidel;
 mod rapier_world;
+mod reduced_hand;
 mod reduced_world;
 pub mod scenarios;
 mod simulation;

@@ -22,8 +22,7 @@ pub enum Engine {
     Rapier,
     /// The hand in reduced coordinates (its joint angles) on the project's own dynamics (RNEA,
     /// CRBA), the controller's springs integrated implicitly, contacts solved by projected
-    /// Gauss–Seidel against the object's distance grid. One hand and one object; no hand–hand
-    /// contact yet.
+    /// Gauss–Seidel against the object's distance grid and between the hands' capsules.
     Reduced,
 }
 

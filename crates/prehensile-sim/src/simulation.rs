@@ -564,7 +564,7 @@ mod tests {
     use prehensile_core::{shapes, ObjectModel};
 
     use crate::scenarios::held_still;
-    use crate::Settings;
+    use crate::{Engine, Settings};
 
     #[global_allocator]
     static COUNT: CountingAllocator = CountingAllocator;
@@ -609,5 +609,36 @@ mod tests {
             ours <= 4 * 100,
             "100 steps allocated {ours} times outside rapier's step"
         );
+    }
+
+    #[test]
+    fn a_whole_step_of_the_reduced_engine_allocates_nothing() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../assets/hands/shadow_hand/reach.xml"
+        );
+        let hand = prehensile_formats::load_hand(std::path::Path::new(path)).unwrap();
+        let sphere = shapes::builtin_object("sphere").unwrap();
+        let sphere = ObjectModel::new("sphere", sphere, None).unwrap();
+        let settings = Settings {
+            record_fps: 1e-3,
+            engine: Engine::Reduced,
+            ..Settings::for_step(0.001)
+        };
+        let mut sim = held_still(&hand, &sphere, settings).unwrap();
+        // The contacts' buffers grow to their most rows within the first steps.
+        for _ in 0..100 {
+            sim.step().unwrap();
+        }
+        let before = allocations();
+        for _ in 0..100 {
+            sim.step().unwrap();
+        }
+        let allocated = allocations() - before;
+        assert!(
+            sim.contacts(0).touching > 0,
+            "the hand let go of the sphere"
+        );
+        assert_eq!(allocated, 0, "100 steps allocated {allocated} times");
     }
 }
