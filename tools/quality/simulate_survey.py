@@ -6,6 +6,7 @@ grasp). Prints one line per hand, `object:H/slip_mm` (H held, - not), and the to
 
 Run from the repository root after `cargo build --release -p prehensile-cli`:
     python3 tools/quality/simulate_survey.py [--cli target/release/prehensile] [--candidates N]
+        [--engine rapier|reduced]
 """
 import argparse
 import json
@@ -35,8 +36,11 @@ def main():
     parser.add_argument("--cli", default="target/release/prehensile")
     parser.add_argument("--candidates", type=int,
                         help="grasps per object checked before each run (default: the CLI's)")
+    parser.add_argument("--engine", default="rapier", choices=["rapier", "reduced"],
+                        help="the simulation's engine (prehensile simulate --engine)")
     args = parser.parse_args()
     extra = [] if args.candidates is None else ["--candidates", str(args.candidates)]
+    extra += ["--engine", args.engine]
     held = total = 0
     for hand in HANDS:
         cells = []

@@ -161,12 +161,12 @@ pub struct SimulateArgs {
     #[arg(long, default_value_t = prehensile_sim::scenarios::CANDIDATES,
         value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=20))]
     pub candidates: usize,
-    /// Solver substeps per step (default: one per millisecond of step and at least 1, so 1 at
-    /// 0.2 ms and at 1 ms).
+    /// Rapier's solver substeps per step (default: one per millisecond of step and at least 1,
+    /// so 1 at 0.2 ms and at 1 ms).
     #[arg(long)]
     pub iterations: Option<usize>,
-    /// Gauss–Seidel sweeps over the constraints in each substep (default: one per 0.125 ms of
-    /// substep and at least 3, so 3 at 0.2 ms and 8 at 1 ms).
+    /// Rapier's Gauss–Seidel sweeps over the constraints in each substep (default: one per
+    /// 0.125 ms of substep and at least 3, so 3 at 0.2 ms and 8 at 1 ms).
     #[arg(long)]
     pub inner_iterations: Option<usize>,
     /// Friction coefficient of the world (the grasp scenarios search their grasps at half of it,

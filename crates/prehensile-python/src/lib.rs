@@ -766,12 +766,12 @@ impl Planner {
 }
 
 /// Runs one of the paper's scenarios (`drop`, `grasp`, `grip-sweep`, `handshake`, `open-close`,
-/// `shake`) in the rapier world, as `prehensile simulate` does (same defaults: the human hand;
-/// sphere, box and cylinder; `candidates` grasps per object checked); returns its report as a
-/// dict.
+/// `shake`) as `prehensile simulate` does (same defaults: the human hand; sphere, box and
+/// cylinder; `candidates` grasps per object checked; `engine` `rapier` or `reduced`); returns its
+/// report as a dict.
 #[pyfunction]
 #[pyo3(signature = (scenario = "grasp", *, hand = None, objects = None, alpha = 0.5, dt = 0.001,
-    friction = 1.0, density = 20.0, seconds = None, candidates = 3))]
+    friction = 1.0, density = 20.0, seconds = None, candidates = 3, engine = "rapier"))]
 #[allow(clippy::too_many_arguments)]
 fn simulate<'py>(
     py: Python<'py>,
@@ -784,8 +784,15 @@ fn simulate<'py>(
     density: f64,
     seconds: Option<f64>,
     candidates: usize,
+    engine: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
     use prehensile_sim::scenarios::{self, Options, Scenario};
+    let engine = prehensile_sim::Engine::from_name(engine).ok_or_else(|| {
+        error(format!(
+            "unknown engine '{engine}'; choose one of {}",
+            prehensile_sim::Engine::NAMES.join(", ")
+        ))
+    })?;
     if !(1..=20).contains(&candidates) {
         return Err(error(format!(
             "candidates={candidates}: give 1 to 20 grasps per object"
@@ -821,6 +828,7 @@ fn simulate<'py>(
             object_density: density,
             solver_iterations: Settings::iterations_for(dt),
             inner_iterations: Settings::inner_iterations_for(dt),
+            engine,
             ..Settings::for_step(dt)
         },
         seconds,

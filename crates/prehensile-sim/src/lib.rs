@@ -1,9 +1,11 @@
 //! # prehensile-sim
 //!
 //! Physically simulated hands: the grasp controller of `prehensile-control` driving hands built
-//! from Prehensile hand models in a rapier3d world, with objects as dynamic rigid bodies, a
-//! prescribed arm trajectory, friction and gravity; and the scenarios of Pollard & Zordan's
-//! paper with their metrics. The only crate of the workspace that depends on rapier.
+//! from Prehensile hand models, with objects as dynamic rigid bodies, a prescribed arm
+//! trajectory, friction and gravity; and the scenarios of Pollard & Zordan's paper with their
+//! metrics. Two engines step them ([`Engine`]): a rapier3d world (one body per bone, impulse
+//! joints), and the hand in reduced coordinates on the project's own dynamics with a contact
+//! solver of its own. The only crate of the workspace that depends on rapier.
 #![warn(missing_docs)]
 
 mod arm_trajectory;

@@ -259,13 +259,22 @@ impl ReducedHand {
         let failed = |e: prehensile_control::DynamicsError| SimError::Hand(e.to_string());
         self.free.iter_mut().for_each(|v| *v = 0.0);
         self.force.copy_from_slice(&self.coupling);
-        if gravity_held || arm_held {
-            let compensation =
-                bias_torques(&self.dynamics, &mut self.data, &self.q, &held).map_err(failed)?;
-            for (f, c) in self.force.iter_mut().zip(compensation) {
-                *f += c;
+        // Newton–Euler is affine in the base's accelerations at given rates: when τG + τARM
+        // hold the hand against all of the palm's motion and the palm does not turn, the bias
+        // less the compensation is the velocity products alone, one pass at a still base.
+        let cancelled = gravity_held && arm_held && real.angular_velocity == Vec3::zeros();
+        let base = if cancelled {
+            BaseMotion::at_rest(Vec3::zeros())
+        } else {
+            if gravity_held || arm_held {
+                let compensation =
+                    bias_torques(&self.dynamics, &mut self.data, &self.q, &held).map_err(failed)?;
+                for (f, c) in self.force.iter_mut().zip(compensation) {
+                    *f += c;
+                }
             }
-        }
+            real
+        };
         let zeros = &self.free;
         let bias = rnea(
             &self.dynamics,
@@ -273,7 +282,7 @@ impl ReducedHand {
             &self.q,
             &self.qd,
             zeros,
-            &real,
+            &base,
         )
         .map_err(failed)?;
         self.bias.copy_from_slice(bias);
@@ -423,6 +432,7 @@ impl ReducedHand {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
+    use prehensile_control::bias_torques;
 
     /// Hands with every kind of joint: hinges, two-axis joints (human), ball joints.
     pub(crate) fn hands() -> Vec<(&'static str, HandModel)> {
@@ -479,6 +489,57 @@ pub(crate) mod tests {
                     hand.bones()[c.bone].name
                 );
             }
+        }
+    }
+
+    /// With the palm accelerating but not turning and τG + τARM on, the free rates come from
+    /// one Newton–Euler pass; they are those of the bias and the compensation computed apart.
+    #[test]
+    fn a_fully_compensated_bias_is_the_velocity_products_alone() {
+        for (name, hand) in hands() {
+            let n = hand.dof_count();
+            let q: Vec<f64> = (0..n).map(|k| 0.2 * ((k % 4) as f64 - 1.5)).collect();
+            let rates: Vec<f64> = (0..n).map(|k| ((k * 5 % 7) as f64 - 3.0) / 2.0).collect();
+            let root = Transform::from_parts(
+                Vec3::new(0.0, 0.1, 0.0).into(),
+                Rotation::from_euler_angles(0.4, 0.2, -0.3),
+            );
+            let gravity = Vec3::new(0.0, 0.0, -9.81);
+            let motion = FrameMotion {
+                linear_acceleration: Vec3::new(3.0, -2.0, 1.0),
+                ..FrameMotion::at_rest(Point3::origin())
+            };
+            let free = |compensate: (bool, bool)| {
+                let mut h = ReducedHand::new(&hand, &root, &q).unwrap();
+                h.qd.copy_from_slice(&rates);
+                h.palm_motion = motion;
+                h.compensate = compensate;
+                h.free_velocity(1e-3, &gravity).unwrap();
+                (h.free.clone(), h.force.clone(), h.bias.clone())
+            };
+            let (shortcut, _, _) = free((true, true));
+            // The same through both passes: the bias under the real motion and gravity less
+            // the compensation, rebuilt here from the uncompensated run's bias.
+            let (_, _, real_bias) = free((false, false));
+            let palm = root * hand.bones()[0].rest;
+            let to_palm = palm.rotation.inverse();
+            let base = BaseMotion {
+                linear_acceleration_minus_gravity: to_palm * (motion.linear_acceleration - gravity),
+                ..BaseMotion::at_rest(Vec3::zeros())
+            };
+            let model = DynamicsModel::new(&hand);
+            let mut data = model.data();
+            let held = bias_torques(&model, &mut data, &q, &base).unwrap().to_vec();
+            let mass = crba(&model, &mut data, &q).unwrap().clone();
+            let dt = 1e-3;
+            // Springs are zero: M q̇⁺ = M q̇ + dt (held − bias).
+            let rhs = &mass * nalgebra::DVector::from_column_slice(&rates)
+                + nalgebra::DVector::from_fn(n, |k, _| dt * (held[k] - real_bias[k]));
+            let expected = mass.cholesky().unwrap().solve(&rhs);
+            let error = (0..n)
+                .map(|k| (shortcut[k] - expected[k]).abs())
+                .fold(0.0, f64::max);
+            assert!(error < 1e-9, "{name}: off by {error}");
         }
     }
 }

@@ -32,10 +32,12 @@ pub struct Settings {
     /// hand squeezes with 0.03–0.62 N for α 0–0.5, enough for objects of a few grams).
     pub object_density: f64,
     /// Solver substeps per step (rapier's solver iterations); [`Settings::for_step`] chooses
-    /// them for a step length.
+    /// them for a step length. The reduced engine takes one step and sweeps its contacts until
+    /// they settle (at most 10 sweeps), whatever this says.
     pub solver_iterations: usize,
     /// Gauss–Seidel sweeps over the constraints in each substep (rapier's internal PGS
-    /// iterations); [`Settings::for_step`] chooses them for a step length.
+    /// iterations); [`Settings::for_step`] chooses them for a step length. Rapier's only, as
+    /// `solver_iterations`.
     pub inner_iterations: usize,
     /// Frames per second of the recording (for animation export).
     pub record_fps: f64,

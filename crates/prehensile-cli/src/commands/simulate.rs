@@ -1,5 +1,5 @@
-//! `prehensile simulate`: one of the paper's scenarios in the rapier world, with a progress bar,
-//! a JSON report and optional animations.
+//! `prehensile simulate`: one of the paper's scenarios on rapier or the reduced engine, with a
+//! progress bar, a JSON report and optional animations.
 
 use indicatif::{ProgressBar, ProgressStyle};
 use prehensile_sim::scenarios::{self, Options, Scenario};
@@ -25,6 +25,13 @@ pub fn run(args: &SimulateArgs) -> Result<i32, CliError> {
             Engine::NAMES.join(", ")
         ))
     })?;
+    if engine == Engine::Reduced && (args.iterations.is_some() || args.inner_iterations.is_some()) {
+        return Err(CliError::Usage(
+            "--iterations and --inner-iterations set rapier's solver, and the reduced engine has \
+             none (it sweeps its contacts until they settle): drop them, or add --engine rapier"
+                .into(),
+        ));
+    }
     let hand = sources::hand(&args.hand)?;
     let objects = args
         .object

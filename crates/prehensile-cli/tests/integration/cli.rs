@@ -646,6 +646,11 @@ fn simulate_refuses_bad_settings_with_the_reason() {
         ("--inner-iterations", "0", "inner solver iterations"),
         ("--dt", "0.5", "too large"),
         ("--alpha", "NaN", "grip strength"),
+        (
+            "--engine",
+            "bullet",
+            "unknown engine 'bullet'; choose one of rapier, reduced",
+        ),
     ] {
         let json = scratch("refused.json");
         let out = prehensile(&[
@@ -663,6 +668,42 @@ fn simulate_refuses_bad_settings_with_the_reason() {
         assert!(text(&out.stderr).contains(reason), "{}", text(&out.stderr));
         assert!(!json.exists(), "no report for a refused run");
     }
+    // Rapier's solver settings mean nothing to the reduced engine: said, not ignored.
+    let out = prehensile(&[
+        "simulate",
+        "--scenario",
+        "drop",
+        "--engine",
+        "reduced",
+        "--iterations",
+        "4",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        text(&out.stderr).contains("the reduced engine has none"),
+        "{}",
+        text(&out.stderr)
+    );
+}
+
+#[test]
+fn simulate_runs_on_the_reduced_engine_and_says_so() {
+    let json = scratch("reduced.json");
+    let out = prehensile(&[
+        "simulate",
+        "--scenario",
+        "grasp",
+        "--object",
+        "sphere",
+        "--engine",
+        "reduced",
+        "--out",
+        json.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let report: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    assert_eq!(report["engine"], "reduced");
+    assert_eq!(report["held"], true);
 }
 
 #[test]

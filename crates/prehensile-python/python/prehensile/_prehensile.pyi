@@ -126,7 +126,8 @@ def check(path: str, *, units: str = "m", scale: float = 1.0) -> dict[str, Any]:
 def simulate(scenario: str = "grasp", *, hand: Optional[HandLike] = None,
              objects: Optional[Sequence[ObjectLike]] = None, alpha: float = 0.5,
              dt: float = 0.001, friction: float = 1.0, density: float = 20.0,
-             seconds: Optional[float] = None, candidates: int = 3) -> dict[str, Any]: ...
+             seconds: Optional[float] = None, candidates: int = 3,
+             engine: str = "rapier") -> dict[str, Any]: ...
 
 def batch(out: str, *, hands: Sequence[str] = ..., objects: Optional[Sequence[str]] = None,
           movements: Sequence[str] = ..., shoulders: Sequence[str] = ..., seeds: int = 1,

@@ -20,6 +20,7 @@ use prehensile_core::math::Transform;
 use prehensile_core::{GraspMovement, HandModel, ObjectModel};
 use serde::Serialize;
 
+use crate::physics_engine::Engine;
 use crate::simulation::{Settings, Simulation, StateChange};
 use crate::SimError;
 
@@ -213,6 +214,8 @@ pub struct RunReport {
     pub hand: String,
     /// Time step, seconds.
     pub dt: f64,
+    /// The engine that stepped the cases.
+    pub engine: Engine,
     /// Every case finite.
     pub finite: bool,
     /// Every grasping case held (absent for scenarios without an object).
@@ -291,6 +294,7 @@ pub fn run(
             scenario: scenario.name(),
             hand: options.hand.name().to_string(),
             dt: options.settings.dt,
+            engine: options.settings.engine,
             finite: cases.iter().all(|c| c.finite),
             held: (!helds.is_empty()).then(|| helds.iter().all(|h| *h)),
             object_slip_m: cases
