@@ -3,7 +3,7 @@ median ratio of their step times (docs/PERFORMANCE.md: how this machine's drift 
 
 Build the example in two checkouts (for instance `git worktree add ../before HEAD~1`), then:
     python3 tools/benchmark/ab_step_timing.py BEFORE/target/release/examples/step_timing \\
-        target/release/examples/step_timing [--hand HAND] [--dt DT] [--pairs N]
+        target/release/examples/step_timing [--hand HAND] [--dt DT] [--pairs N] [--engine E]
 Each pair is 1000 steps of A then 1000 of B, each timed as the median of blocks of 100 steps; the
 ratio A/B above 1 means B is faster. Standard library only.
 """
@@ -23,10 +23,12 @@ def main():
     parser.add_argument("--hand", default=str(ROOT / "assets/hands/shadow_hand/reach.xml"))
     parser.add_argument("--dt", default="0.001", help="step length, seconds")
     parser.add_argument("--pairs", type=int, default=30)
+    parser.add_argument("--engine", default="rapier", choices=["rapier", "reduced"])
     args = parser.parse_args()
     if args.pairs < 2:
         parser.error("--pairs must be at least 2")
-    a, b = (StepTiming(binary, args.hand, [args.dt]) for binary in (args.a, args.b))
+    a, b = (StepTiming(binary, args.hand, [args.dt], engine=args.engine)
+            for binary in (args.a, args.b))
     a.step_us(args.dt, 2000)  # warm up both
     b.step_us(args.dt, 2000)
     times_a, times_b = [], []

@@ -30,8 +30,10 @@ const MAX_ROUNDS: usize = 16;
 const SPREAD: [f64; 5] = [0.0, 0.25, 0.5, 0.75, 1.0];
 /// How far along the segment the first probe goes (metres).
 const NUDGE: f64 = 1e-3;
-/// Stop once the distance can fall by less than this (metres).
-const CONVERGED: f64 = 1e-6;
+/// Stop once the distance can fall by less than this (metres): 10 µm, a tenth or less of the
+/// grid's interpolation error (measured 0.06–0.26 spacings of 2–3 mm), which bounds what a
+/// finer search could learn. At 1 µm the Shadow hand's contacts took a fifth more samples.
+const CONVERGED: f64 = 1e-5;
 
 /// One capsule's contact with the object.
 #[derive(Debug, Clone, Copy, PartialEq)]
