@@ -217,6 +217,15 @@ pub struct JointSpring {
 }
 
 impl JointSpring {
+    /// No stiffness and no damping: the joint is left free (a buffer's value before the
+    /// controller's first step).
+    pub const SLACK: Self = Self {
+        stiffness: 0.0,
+        damping: 0.0,
+        target: 0.0,
+        target_velocity: 0.0,
+    };
+
     /// The torque at `q`, `qd`.
     pub fn torque(&self, q: f64, qd: f64) -> f64 {
         self.stiffness * (self.target - q) + self.damping * (self.target_velocity - qd)

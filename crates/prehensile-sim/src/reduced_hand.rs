@@ -135,12 +135,6 @@ impl ReducedHand {
             .map(|t| t.and_then(|t| block_of_top[t]))
             .collect();
         let dynamics = DynamicsModel::new(hand);
-        let spring = JointSpring {
-            stiffness: 0.0,
-            damping: 0.0,
-            target: 0.0,
-            target_velocity: 0.0,
-        };
         let capsules = hand.capsules().len();
         Ok(Self {
             hand: hand.clone(),
@@ -149,7 +143,7 @@ impl ReducedHand {
             q: start.to_vec(),
             qd: vec![0.0; n],
             root: *root,
-            springs: vec![spring; n],
+            springs: vec![JointSpring::SLACK; n],
             coupling: vec![0.0; n],
             palm_motion: FrameMotion::at_rest(Point3::from(
                 (root * bones[0].rest).translation.vector,

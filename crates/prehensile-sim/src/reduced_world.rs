@@ -553,12 +553,7 @@ mod tests {
             let mut world = ReducedWorld::new(&settings);
             let start: Vec<f64> = (0..n).map(|k| 0.1 * ((k % 5) as f64 - 2.0)).collect();
             world.add_hand(&hand, &root_at(0.0), &start).unwrap();
-            let still = JointSpring {
-                stiffness: 0.0,
-                damping: 0.0,
-                target: 0.0,
-                target_velocity: 0.0,
-            };
+            let still = JointSpring::SLACK;
             let springs = vec![still; n];
             let zeros = vec![0.0; n];
             for step in 0..steps {

@@ -301,17 +301,11 @@ impl Simulation {
             .add_hand(hand, &setup.arm.at(0.0), &setup.start)?;
         let palm_local = hand.bones()[0].rest;
         let dynamics = DynamicsModel::new(hand);
-        let spring = JointSpring {
-            stiffness: 0.0,
-            damping: 0.0,
-            target: 0.0,
-            target_velocity: 0.0,
-        };
         self.hands.push(SimHand {
             control: ControllerState::default(),
             dynamics_data: dynamics.data(),
             dynamics,
-            springs: vec![spring; n],
+            springs: vec![JointSpring::SLACK; n],
             coupling: vec![0.0; n],
             q: setup.start.clone(),
             qd: vec![0.0; n],
@@ -566,13 +560,14 @@ mod tests {
     use prehensile_core::{shapes, ObjectModel};
 
     use crate::scenarios::held_still;
-    use crate::{Engine, Settings};
+    use crate::{Engine, Settings, Simulation};
 
     #[global_allocator]
     static COUNT: CountingAllocator = CountingAllocator;
 
-    #[test]
-    fn our_part_of_a_step_allocates_nothing() {
+    /// The Shadow hand holding the sphere still on `engine` at 1 ms, not recording (keyframes
+    /// are output, not step work).
+    fn shadow_holding_the_sphere(engine: Engine) -> Simulation {
         let path = concat!(
             env!("CARGO_MANIFEST_DIR"),
             "/../../assets/hands/shadow_hand/reach.xml"
@@ -581,11 +576,16 @@ mod tests {
         let sphere = shapes::builtin_object("sphere").unwrap();
         let sphere = ObjectModel::new("sphere", sphere, None).unwrap();
         let settings = Settings {
-            // Recording stores keyframes, which is output, not step work.
             record_fps: 1e-3,
+            engine,
             ..Settings::for_step(0.001)
         };
-        let mut sim = held_still(&hand, &sphere, settings).unwrap();
+        held_still(&hand, &sphere, settings).unwrap()
+    }
+
+    #[test]
+    fn our_part_of_a_step_allocates_nothing() {
+        let mut sim = shadow_holding_the_sphere(Engine::Rapier);
         sim.step().unwrap();
         let mut ours = 0;
         for _ in 0..100 {
@@ -615,19 +615,7 @@ mod tests {
 
     #[test]
     fn a_whole_step_of_the_reduced_engine_allocates_nothing() {
-        let path = concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../../assets/hands/shadow_hand/reach.xml"
-        );
-        let hand = prehensile_formats::load_hand(std::path::Path::new(path)).unwrap();
-        let sphere = shapes::builtin_object("sphere").unwrap();
-        let sphere = ObjectModel::new("sphere", sphere, None).unwrap();
-        let settings = Settings {
-            record_fps: 1e-3,
-            engine: Engine::Reduced,
-            ..Settings::for_step(0.001)
-        };
-        let mut sim = held_still(&hand, &sphere, settings).unwrap();
+        let mut sim = shadow_holding_the_sphere(Engine::Reduced);
         // The contacts' buffers grow to their most rows within the first steps.
         for _ in 0..100 {
             sim.step().unwrap();
