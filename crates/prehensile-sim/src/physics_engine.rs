@@ -96,7 +96,20 @@ pub(crate) trait PhysicsEngine: Send {
     fn bone_frames(&self, i: usize, out: &mut Vec<Transform>);
 }
 
-/// Faster than anything a hand does: 2000 rad/s, 50 m/s.
+/// True when a body's place is not finite or it moves faster than anything a hand does
+/// (2000 rad/s, 50 m/s).
 pub(crate) fn runaway(position_finite: bool, linear: &Vec3, angular: &Vec3) -> bool {
     !(position_finite && angular.norm() < 2000.0 && linear.norm() < 50.0)
+}
+
+/// What diverged when bone `k` of hand `i` ran away: the bone and its joint.
+pub(crate) fn bone_ran_away(hand: &HandModel, i: usize, k: usize) -> String {
+    let bone = &hand.bones()[k];
+    format!(
+        "hand {i}, bone '{}' (joint {}) ran away: lower the gains or the time step",
+        bone.name,
+        hand.dof_names()
+            .get(bone.first_dof)
+            .map_or("fixed", |s| s.as_str())
+    )
 }

@@ -9,7 +9,7 @@ use rapier3d_f64::prelude::{Group, PhysicsWorld, RigidBody};
 use crate::articulated_hand::ArticulatedHand;
 use crate::holding_wrench::FrameMotion;
 use crate::object_body::ObjectBody;
-use crate::physics_engine::{runaway, HandDrive, PhysicsEngine};
+use crate::physics_engine::{bone_ran_away, runaway, HandDrive, PhysicsEngine};
 use crate::simulation::{Contacts, Settings};
 use crate::{convert, SimError};
 
@@ -215,16 +215,4 @@ impl PhysicsEngine for RapierWorld {
                 .map(|b| convert::transform(self.world.bodies[*b].position())),
         );
     }
-}
-
-/// What diverged when bone `k` of hand `i` ran away: the bone and its joint.
-pub(crate) fn bone_ran_away(hand: &HandModel, i: usize, k: usize) -> String {
-    let bone = &hand.bones()[k];
-    format!(
-        "hand {i}, bone '{}' (joint {}) ran away: lower the gains or the time step",
-        bone.name,
-        hand.dof_names()
-            .get(bone.first_dof)
-            .map_or("fixed", |s| s.as_str())
-    )
 }

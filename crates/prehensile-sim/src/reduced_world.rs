@@ -1,7 +1,8 @@
-//! The reduced-coordinate engine: a hand stepped in its joint angles on the project's own
+//! The reduced-coordinate engine: hands stepped in their joint angles on the project's own
 //! dynamics, with a contact solver of its own, instead of one rigid body per bone held together
-//! by rapier's impulse joints (issue 15: rapier's joints cost more than MuJoCo's whole step; a
-//! prototype of this step ran 1.35–2.2× MuJoCo's speed, docs/PERFORMANCE.md).
+//! by rapier's impulse joints (issue 15: rapier's joints cost more than MuJoCo's whole step;
+//! this engine takes 1.1–2.3× MuJoCo's steps per second, docs/PERFORMANCE.md). One hand's
+//! share of the step is [`crate::reduced_hand`].
 //!
 //! Each step of `dt`, for every hand under its kinematic palm (the arm is prescribed):
 //!
@@ -11,7 +12,8 @@
 //!    warm-started from the capsule's contact of the step before);
 //! 3. the bias b(q, q̇) by Newton–Euler with the palm's real motion and gravity
 //!    ([`prehensile_control::rnea`]), the controller's compensation τG + τARM by Newton–Euler at
-//!    rest ([`prehensile_control::bias_torques`], the paper's Eq. 2), the mass matrix M(q)
+//!    rest ([`prehensile_control::bias_torques`], the paper's Eq. 2; one pass of the velocity
+//!    products alone when the two cancel, a palm that does not turn), the mass matrix M(q)
 //!    ([`prehensile_control::crba`]);
 //! 4. the controller's springs integrated implicitly, as rapier's motors and MuJoCo's servos are:
 //!    (M + dt D + dt² K) q̇⁺ = M q̇ + dt (τ − b + K (q* − q) + D q̇*) + impulses, factored block
@@ -19,7 +21,8 @@
 //! 5. the object's free velocity under gravity; the Delassus matrix of hand and object; the
 //!    impulses by projected Gauss–Seidel ([`crate::projected_gauss_seidel`]), warm-started from
 //!    each capsule's impulses of the step before, contacts speculative within a millimetre
-//!    (a gap may close in one step, no more) and penetration pushed out by a fifth a step;
+//!    (a gap may close in one step, no more), penetration pushed out by a fifth a step, normal
+//!    rows softened as MuJoCo's, sweeps stopping once the impulses settle;
 //! 6. velocities updated, angles and the object integrated (semi-implicit Euler; a ball joint's
 //!    rotation composed with its turn).
 //!
@@ -36,14 +39,13 @@ use prehensile_core::math::{Point3, Rotation, Transform, Vec3};
 use prehensile_core::{HandModel, ObjectModel};
 
 use crate::object_body::solid_mass_properties;
-use crate::physics_engine::{runaway, HandDrive, PhysicsEngine};
+use crate::physics_engine::{bone_ran_away, runaway, HandDrive, PhysicsEngine};
 use crate::projected_gauss_seidel::{projected_gauss_seidel, ContactProblem};
-use crate::rapier_world::bone_ran_away;
 use crate::reduced_hand::ReducedHand;
 use crate::simulation::{Contacts, Settings};
 use crate::SimError;
 
-/// Gauss–Seidel sweeps a step (warm-started, so few are needed).
+/// Most Gauss–Seidel sweeps a step (warm-started, they often settle sooner).
 const SWEEPS: usize = 10;
 /// Contacts are made this far out, so that a resting contact stays one (metres).
 const MARGIN: f64 = 0.001;
@@ -53,8 +55,8 @@ const MARGIN: f64 = 0.001;
 const FOLLOWED: f64 = 0.005;
 /// Share of a penetration pushed out per step.
 const BAUMGARTE: f64 = 0.2;
-/// Contact compliance as a share of each row's Delassus diagonal: MuJoCo's default impedance
-/// (d = 0.95 at depth) gives (1 − d) / d ≈ 0.05.
+/// Contact compliance as a share of each normal row's Delassus diagonal: MuJoCo's default
+/// impedance (d = 0.95 at depth) gives (1 − d) / d ≈ 0.05.
 const SOFTNESS: f64 = 0.05;
 
 /// Hands and at most one object, stepped in reduced coordinates.
@@ -495,11 +497,13 @@ impl PhysicsEngine for ReducedWorld {
         for (i, h) in self.hands.iter().enumerate() {
             for (k, bone) in h.hand.bones().iter().enumerate() {
                 let range = bone.first_dof..bone.first_dof + bone.joint.dofs();
-                let angles_finite = h.q[range.clone()].iter().all(|x| x.is_finite());
+                let finite = h.q[range.clone()]
+                    .iter()
+                    .chain(&h.qd[range.clone()])
+                    .all(|x| x.is_finite());
+                // A joint's fastest rate, held to the angular limit of a body.
                 let rates = h.qd[range].iter().fold(0.0f64, |m, x| m.max(x.abs()));
-                if runaway(angles_finite, &Vec3::zeros(), &Vec3::new(rates, 0.0, 0.0))
-                    || rates.is_nan()
-                {
+                if runaway(finite, &Vec3::zeros(), &Vec3::new(rates, 0.0, 0.0)) {
                     return Some(bone_ran_away(&h.hand, i, k));
                 }
             }
