@@ -24,7 +24,7 @@ pub(crate) struct ReducedHand {
     pub(crate) qd: Vec<f64>,
     /// The root placement now.
     pub(crate) root: Transform,
-    /// What drives it over the next step (set by [`PhysicsEngine::drive`]).
+    /// What drives it over the next step (set by the engine's `drive`).
     pub(crate) springs: Vec<JointSpring>,
     pub(crate) coupling: Vec<f64>,
     pub(crate) palm_motion: FrameMotion,
