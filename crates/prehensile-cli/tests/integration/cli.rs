@@ -189,12 +189,13 @@ fn a_grasp_is_the_same_on_any_number_of_threads_and_on_a_grid_filled_first() {
 }
 
 #[test]
-fn one_sided_patience_trades_a_grasp_pushing_from_every_side_for_time() {
-    // The Shadow hand's sphere grasp of seed 3 is one-sided at first; going on looking (the
-    // default) finds one that pushes from every side, `--one-sided-patience 0` returns the
-    // first, after fewer steps.
-    let run = |patience: &str| {
-        let json = scratch(&format!("shadow_sphere_patience_{patience}.json"));
+fn one_sided_patience_goes_on_to_a_grasp_pushing_from_every_side() {
+    // Some of the Shadow hand's sphere searches find a one-sided grasp first (seeds 1 and 6 of
+    // six when this was written): `--one-sided-patience 0` returns one, going on looking (the
+    // default) finds one that pushes from every side. Either may take more steps: seed 1 took
+    // 120 steps quick and 59 patient, seed 6 93 and 175.
+    let run = |patience: &str, seed: u64| {
+        let json = scratch(&format!("shadow_sphere_patience_{patience}_{seed}.json"));
         let out = prehensile(&[
             "grasp",
             "--hand",
@@ -202,7 +203,7 @@ fn one_sided_patience_trades_a_grasp_pushing_from_every_side_for_time() {
             "--movement",
             "power",
             "--seed",
-            "3",
+            &seed.to_string(),
             "--one-sided-patience",
             patience,
             "--out",
@@ -210,14 +211,14 @@ fn one_sided_patience_trades_a_grasp_pushing_from_every_side_for_time() {
         ]);
         assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
         let r: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
-        (
-            r["normal_cone_degrees"].as_f64().unwrap(),
-            r["stats"]["steps"].as_u64().unwrap(),
-        )
+        r["normal_cone_degrees"].as_f64().unwrap()
     };
-    let (patient, quick) = (run("120"), run("0"));
-    assert!(patient.0 >= 90.0 && quick.0 < 90.0, "{patient:?} {quick:?}");
-    assert!(quick.1 < patient.1, "{patient:?} {quick:?}");
+    let one_sided: Vec<u64> = (1..=6).filter(|&seed| run("0", seed) < 90.0).collect();
+    assert!(!one_sided.is_empty(), "no seed's first grasp is one-sided");
+    for seed in one_sided {
+        let patient = run("120", seed);
+        assert!(patient >= 90.0, "seed {seed}: {patient}°");
+    }
 }
 
 #[test]

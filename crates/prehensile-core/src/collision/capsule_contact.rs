@@ -12,7 +12,8 @@
 //! before (a resting contact moves little between steps) costs one to three samples; a cold one
 //! starts from the lowest of five points along the capsule.
 //!
-//! The distance field is the object's distance grid read by trilinear interpolation
+//! The distance field is the object's contact grid (finer than the search's, see
+//! [`MeshCollider::contact_grid`]) read by trilinear interpolation
 //! ([`SignedDistanceGrid::sample`]: eight node reads, no triangle touched), after the grid's
 //! one-lookup test ([`SignedDistanceGrid::proves_clear`]) has skipped the far capsules. A mesh
 //! without a grid (its inside from winding numbers) is sampled by exact nearest-point queries
@@ -68,7 +69,7 @@ impl MeshCollider {
         }
         let reach = capsule.radius + margin.max(0.0);
         let fraction = warm_start.map(|t| t.clamp(0.0, 1.0));
-        if let Some(grid) = self.grid() {
+        if let Some(grid) = self.contact_grid() {
             let exact = self.exact();
             if grid.proves_clear(exact, &capsule.a, &capsule.b, reach) {
                 return None;
@@ -316,7 +317,7 @@ mod tests {
                 let exact = collider.exact();
                 let capsules = cases(exact, &raw);
                 let (shallower, deeper, found) = errors(collider, exact, &capsules);
-                let spacing = collider.grid().unwrap().spacing();
+                let spacing = collider.contact_grid().unwrap().spacing();
                 prop_assert!(found > capsules.len() / 2, "{name}: {found} contacts");
                 prop_assert!(shallower <= 0.5 * spacing, "{name}: understated by {shallower}");
                 prop_assert!(deeper <= 0.5 * spacing, "{name}: overstated by {deeper}");
@@ -331,7 +332,7 @@ mod tests {
             let collider = object.collider();
             let exact = collider.exact();
             let (_, deeper, _) = errors(collider, exact, &cases(exact, &raw));
-            prop_assert!(deeper <= 0.5 * collider.grid().unwrap().spacing(), "overstated by {deeper}");
+            prop_assert!(deeper <= 0.5 * collider.contact_grid().unwrap().spacing(), "overstated by {deeper}");
         }
 
         /// A mesh without a grid (its inside from winding numbers) is sampled exactly, so its
@@ -342,7 +343,7 @@ mod tests {
             for name in ["sphere", "box"] {
                 let exact = TriangleBvh::with_winding_numbers(&builtin_object(name).unwrap());
                 let collider = MeshCollider::from_exact(exact.clone(), 0.03);
-                prop_assert!(collider.grid().is_none());
+                prop_assert!(collider.grid().is_none() && collider.contact_grid().is_none());
                 let (shallower, deeper, _) = errors(&collider, &exact, &cases(&exact, &raw));
                 prop_assert!(shallower <= 1e-4 && deeper <= 1e-4, "{name}: {shallower} {deeper}");
             }

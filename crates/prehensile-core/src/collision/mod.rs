@@ -18,7 +18,7 @@ pub use boundary_fan::BoundaryFan;
 pub use capsule_contact::CapsuleContact;
 pub use fast_winding_number::{triangle_solid_angle, WindingNumberTree};
 pub use inside_volume::{inside_volume_and_centroid, overlaps_itself, InsideVolume};
-pub use signed_distance_grid::{Decision, SignedDistanceGrid};
+pub use signed_distance_grid::{Decision, SignedDistanceGrid, SEARCH_SPACING};
 pub use triangle_bvh::{SurfacePoint, TriangleBvh};
 
 use crate::math::Point3;
@@ -51,18 +51,29 @@ pub struct CollisionCounters {
 #[derive(Debug, Clone)]
 pub struct MeshCollider {
     exact: TriangleBvh,
+    /// The grid of the search's yes/no tests, at least [`SEARCH_SPACING`] apart.
     fast: Option<SignedDistanceGrid>,
+    /// The finer grid a simulation's contacts interpolate (64 nodes a side), whose error
+    /// shrinks with the square of its spacing; filled only where a simulation reads it.
+    contact: Option<SignedDistanceGrid>,
 }
 
 impl MeshCollider {
-    /// The colliders around an exact path: with the distance grid (`margin` metres beyond the
+    /// The colliders around an exact path: with the distance grids (`margin` metres beyond the
     /// mesh) when its signs come from pseudo-normals, alone when from winding numbers.
     pub fn from_exact(exact: TriangleBvh, margin: f64) -> Self {
-        let fast = (!exact.uses_winding_numbers()).then(|| {
-            let (lo, hi) = exact.bounds();
-            SignedDistanceGrid::new(lo, hi, margin)
-        });
-        Self { exact, fast }
+        let grid = |least_spacing| {
+            (!exact.uses_winding_numbers()).then(|| {
+                let (lo, hi) = exact.bounds();
+                SignedDistanceGrid::new(lo, hi, margin, least_spacing)
+            })
+        };
+        let (fast, contact) = (grid(SEARCH_SPACING), grid(0.0));
+        Self {
+            exact,
+            fast,
+            contact,
+        }
     }
 
     /// The exact path.
@@ -70,13 +81,21 @@ impl MeshCollider {
         &self.exact
     }
 
-    /// The distance grid (none for a mesh whose inside is from winding numbers).
+    /// The distance grid of the search's capsule tests (none for a mesh whose inside is from
+    /// winding numbers).
     pub fn grid(&self) -> Option<&SignedDistanceGrid> {
         self.fast.as_ref()
     }
 
-    /// Fills the whole distance grid now ([`SignedDistanceGrid::fill_all`]) rather than node by
-    /// node as searches read it; returns how many nodes it filled (0 without a grid).
+    /// The finer distance grid a simulation's contacts are interpolated from
+    /// ([`Self::capsule_contact`]); none for a mesh whose inside is from winding numbers.
+    pub fn contact_grid(&self) -> Option<&SignedDistanceGrid> {
+        self.contact.as_ref()
+    }
+
+    /// Fills the search's whole distance grid now ([`SignedDistanceGrid::fill_all`]) rather
+    /// than node by node as searches read it; returns how many nodes it filled (0 without a
+    /// grid). The contact grid stays filled on demand.
     pub fn fill_grid(&self) -> usize {
         self.fast
             .as_ref()

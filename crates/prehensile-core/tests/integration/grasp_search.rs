@@ -1052,7 +1052,7 @@ fn the_default_rule_prefers_wraps_that_push_from_every_side_and_strict_refuses_t
         cap >= 89.9,
         "the strict grasp's normals lie within {cap:.1}°"
     );
-    let refused = strict(&cartoon, &sphere, "power", 1);
+    let refused = strict(&cartoon, &sphere, "power", 2);
     assert!(!refused.valid);
     let reason = refused.invalid_reason.unwrap_or_default();
     assert!(
@@ -1341,6 +1341,12 @@ fn a_grid_filled_up_front_gives_the_same_grasps() {
             assert_eq!(on_lazy, on_filled, "{} seed {seed}", lazy.name());
         }
         let lazy_grid = lazy.collider().grid().unwrap();
-        assert!(lazy_grid.filled_nodes() < lazy_grid.node_count() / 2);
+        // Two searches read part of the grid: on the mug 2,712 of its 4,275 nodes.
+        let (filled, all) = (lazy_grid.filled_nodes(), lazy_grid.node_count());
+        assert!(
+            filled < all * 3 / 4,
+            "{} filled {filled} of {all}",
+            lazy.name()
+        );
     }
 }
