@@ -2,7 +2,10 @@
 //!
 //! Two paths: [`TriangleBvh::capsule_touches`] is exact; [`MeshCollider::capsule_touches`] first
 //! asks a [`SignedDistanceGrid`] and falls back to the exact path only when the grid's bounds do
-//! not decide, so both always give the same answer. A mesh that is not a clean closed manifold
+//! not decide, so both always give the same answer. The simulation's contacts read a second,
+//! finer grid ([`MeshCollider::contact_grid`]): a coarse grid costs the search fewer
+//! nearest-triangle queries, a fine one the contacts less interpolation error. A mesh that is
+//! not a clean closed manifold
 //! has its inside from winding numbers (`fast_winding_number`) and only the exact path: a
 //! signed distance whose sign flips across a hole, away from any triangle, is not the Lipschitz
 //! function the grid's bounds need.

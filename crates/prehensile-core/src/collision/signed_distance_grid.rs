@@ -15,7 +15,8 @@
 //! on its distance, all the bounds below need); a far node inside the box, rarer, gets an
 //! unbounded query for its sign and stores its signed distance, read as a one-sided bound. Setting an object up therefore costs no distance queries at
 //! all (filling all 64³ nodes of a 16k-triangle mesh up front took 0.6 s, and 85 s for a
-//! million triangles, while a search reads a few thousand nodes near the hand's path). Nodes are
+//! million triangles, while a search reads a few thousand nodes near the hand's path). The
+//! search's grid is coarser still ([`SEARCH_SPACING`]): each node it reads costs a query. Nodes are
 //! atomics, so one object serves many threads; two threads filling the same node write the same
 //! number.
 
