@@ -24,7 +24,18 @@ pub use inside_volume::{inside_volume_and_centroid, overlaps_itself, InsideVolum
 pub use signed_distance_grid::{Decision, SignedDistanceGrid, SEARCH_SPACING};
 pub use triangle_bvh::{SurfacePoint, TriangleBvh};
 
+use std::sync::OnceLock;
+
 use crate::math::Point3;
+
+/// An unfilled distance grid around `exact`'s mesh, `margin` metres past it, nodes at least
+/// `least_spacing` apart; none when its signs come from winding numbers.
+fn grid_around(exact: &TriangleBvh, margin: f64, least_spacing: f64) -> Option<SignedDistanceGrid> {
+    (!exact.uses_winding_numbers()).then(|| {
+        let (lo, hi) = exact.bounds();
+        SignedDistanceGrid::new(lo, hi, margin, least_spacing)
+    })
+}
 
 /// A capsule in world coordinates: the segment `a–b` swept by a sphere of `radius`.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -57,25 +68,22 @@ pub struct MeshCollider {
     /// The grid of the search's yes/no tests, at least [`SEARCH_SPACING`] apart.
     fast: Option<SignedDistanceGrid>,
     /// The finer grid a simulation's contacts interpolate (64 nodes a side), whose error
-    /// shrinks with the square of its spacing; filled only where a simulation reads it.
-    contact: Option<SignedDistanceGrid>,
+    /// shrinks with the square of its spacing: made on a simulation's first contact query
+    /// (a search never reads it), filled only where read.
+    contact: OnceLock<Option<SignedDistanceGrid>>,
+    /// How far both grids reach past the mesh (metres).
+    margin: f64,
 }
 
 impl MeshCollider {
     /// The colliders around an exact path: with the distance grids (`margin` metres beyond the
     /// mesh) when its signs come from pseudo-normals, alone when from winding numbers.
     pub fn from_exact(exact: TriangleBvh, margin: f64) -> Self {
-        let grid = |least_spacing| {
-            (!exact.uses_winding_numbers()).then(|| {
-                let (lo, hi) = exact.bounds();
-                SignedDistanceGrid::new(lo, hi, margin, least_spacing)
-            })
-        };
-        let (fast, contact) = (grid(SEARCH_SPACING), grid(0.0));
         Self {
+            fast: grid_around(&exact, margin, SEARCH_SPACING),
             exact,
-            fast,
-            contact,
+            contact: OnceLock::new(),
+            margin,
         }
     }
 
@@ -93,7 +101,9 @@ impl MeshCollider {
     /// The finer distance grid a simulation's contacts are interpolated from
     /// ([`Self::capsule_contact`]); none for a mesh whose inside is from winding numbers.
     pub fn contact_grid(&self) -> Option<&SignedDistanceGrid> {
-        self.contact.as_ref()
+        self.contact
+            .get_or_init(|| grid_around(&self.exact, self.margin, 0.0))
+            .as_ref()
     }
 
     /// Fills the search's whole distance grid now ([`SignedDistanceGrid::fill_all`]) rather
