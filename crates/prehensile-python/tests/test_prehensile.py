@@ -254,12 +254,19 @@ def test_a_budget_is_the_whole_searchs():
     assert tiny.to_dict()["status"] == "searching"
 
 
-def test_one_sided_patience_trades_a_grasp_pushing_from_every_side_for_time():
+def test_one_sided_patience_goes_on_to_a_grasp_pushing_from_every_side():
+    # Some of the Shadow hand's sphere searches find a one-sided grasp first: patience 0 returns
+    # it, the default goes on looking and finds one that pushes from every side. Which seeds do
+    # depends on the search's path, so the test looks for them among six (as the CLI's test does).
     shadow = prehensile.Hand(os.path.join(ROOT, "assets", "hands", "shadow_hand", "reach.xml"))
-    patient = prehensile.grasp(shadow, "sphere", "power", seed=3)
-    quick = prehensile.grasp(shadow, "sphere", "power", seed=3, one_sided_patience=0)
-    assert patient.normal_cone_degrees == 90.0 and quick.normal_cone_degrees < 90.0
-    assert quick.stats["steps"] < patient.stats["steps"]
+
+    def cone(seed, **patience):
+        return prehensile.grasp(shadow, "sphere", "power", seed=seed, **patience).normal_cone_degrees
+
+    one_sided = [seed for seed in range(1, 7) if cone(seed, one_sided_patience=0) < 90.0]
+    assert one_sided, "no seed's first grasp is one-sided"
+    for seed in one_sided:
+        assert cone(seed) >= 90.0, seed
     with pytest.raises(OverflowError):
         prehensile.grasp(shadow, "sphere", "power", one_sided_patience=-1)
 
