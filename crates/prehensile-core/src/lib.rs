@@ -19,6 +19,7 @@
 pub mod allocation_count;
 pub mod animation;
 pub mod collision;
+mod edge_groups;
 pub mod finger_closing;
 pub mod geometry;
 pub mod hand;

@@ -2,6 +2,7 @@
 
 use foldhash::{HashMap, HashMapExt};
 
+use crate::edge_groups::{sorted_in_vertex_buckets, EdgeGroups};
 use crate::math::{Point3, Vec3};
 
 /// Largest number of triangles a mesh may have; larger inputs are refused rather than exhausting
@@ -341,24 +342,26 @@ impl TriangleMesh {
     pub fn drop_cancelling_triangles(&self) -> (Self, DroppedTriangles) {
         let mut dead = vec![false; self.triangles.len()];
         let mut collapsed = 0;
-        // Each triangle under its sorted vertex set, with its winding's parity, sorted so that
-        // the triangles on one vertex set lie together in their order (a sort, not a map of
-        // lists: a million small lists were a quarter of a million-triangle setup).
-        let mut by_set: Vec<([u32; 3], usize, bool)> = Vec::with_capacity(self.triangles.len());
-        for (t, tri) in self.triangles.iter().enumerate() {
-            let [a, b, c] = *tri;
+        for (t, &[a, b, c]) in self.triangles.iter().enumerate() {
             if a == b || b == c || c == a {
                 dead[t] = true;
                 collapsed += 1;
-                continue;
             }
-            let mut key = *tri;
+        }
+        // Each other triangle under its sorted vertex set, with its winding's parity, bucketed
+        // by its lowest vertex and sorted, so that the triangles on one vertex set lie together
+        // in their order (buckets, not a map of lists: a million small lists were a quarter of
+        // a million-triangle setup; nor one sort of all).
+        let (by_set, _) = sorted_in_vertex_buckets(&self.triangles, |t, tri| {
+            let [a, b, c] = tri;
+            let mut key = tri;
             key.sort_unstable();
             // Even permutations of the sorted order keep the winding.
             let rotation = [[a, b, c], [b, c, a], [c, a, b]];
-            by_set.push((key, t, rotation.contains(&key)));
-        }
-        by_set.sort_unstable();
+            let kept = !dead[t];
+            kept.then_some((key[0], (key, t, rotation.contains(&key))))
+                .into_iter()
+        });
         let (mut pairs, mut duplicates) = (0, 0);
         for list in by_set.chunk_by(|x, y| x.0 == y.0) {
             // The k-th triangle wound one way cancels the k-th wound the other way, in mesh
@@ -577,26 +580,21 @@ impl TriangleMesh {
         (mesh, degenerate.len())
     }
 
-    /// Every edge (lower vertex index first) with how many triangles run along it from the lower
-    /// index to the higher and how many the other way. A collapsed triangle's edge from a vertex
-    /// to itself is no edge.
-    fn edge_uses(&self) -> HashMap<(u32, u32), (u32, u32)> {
-        let mut edges: HashMap<(u32, u32), (u32, u32)> = HashMap::new();
-        for tri in &self.triangles {
-            for k in 0..3 {
-                let (u, v) = (tri[k], tri[(k + 1) % 3]);
-                if u == v {
-                    continue;
-                }
-                let e = edges.entry((u.min(v), u.max(v))).or_insert((0, 0));
-                if u < v {
-                    e.0 += 1;
-                } else {
-                    e.1 += 1;
-                }
-            }
-        }
-        edges
+    /// Every edge (lower vertex index first), in order, with how many triangles run along it from
+    /// the lower index to the higher and how many the other way. A collapsed triangle's edge from
+    /// a vertex to itself is no edge.
+    fn edge_uses(&self) -> Vec<((u32, u32), (u32, u32))> {
+        EdgeGroups::new(&self.triangles)
+            .iter()
+            .filter(|((u, v), _)| u != v)
+            .map(|((u, v), corners)| {
+                let forward = corners
+                    .iter()
+                    .filter(|&(t, k)| self.triangles[t][k] == u)
+                    .count() as u32;
+                ((u, v), (forward, corners.iter().count() as u32 - forward))
+            })
+            .collect()
     }
 
     /// The edges along which the triangles do not cancel (a hole's rim, a non-manifold or a
@@ -628,8 +626,8 @@ impl TriangleMesh {
         let mut boundary = Vec::new();
         let mut non_manifold = Vec::new();
         let mut inconsistent = Vec::new();
-        let unbalanced_edges = edges.values().filter(|(fwd, back)| fwd != back).count();
-        for (&(u, v), &(fwd, back)) in &edges {
+        let unbalanced_edges = edges.iter().filter(|(_, (fwd, back))| fwd != back).count();
+        for &((u, v), (fwd, back)) in &edges {
             match fwd + back {
                 1 => boundary.push((u, v)),
                 2 if fwd != 1 => inconsistent.push((u, v)),

@@ -7,6 +7,7 @@
 //! Written by hand rather than with parry3d's BVH so that the leaf tests are our checked kernels
 //! and the traversal uses a fixed stack: queries take `&self` and never allocate.
 
+use crate::edge_groups::EdgeGroups;
 use crate::geometry::{
     closest_point_on_triangle, closest_segment_triangle, distance_squared_segment_triangle,
     segment_within_triangle, TriangleFeature,
@@ -37,6 +38,9 @@ const STACK: usize = 64;
 const MAX_SAH_DEPTH: usize = 32;
 /// Bins of the surface area heuristic's split.
 const SAH_BINS: usize = 16;
+/// Triangles in a node above which its two subtrees are built on two threads (each then pays
+/// for its own node list and the graft).
+const PARALLEL_ITEMS: usize = 2048;
 
 #[derive(Debug, Clone, Copy)]
 struct Node {
@@ -91,7 +95,8 @@ impl TriangleBvh {
         // The tree and the pseudo-normals need nothing of each other: they are built side by
         // side. Every per-triangle array is then gathered once in leaf order, so that a query
         // reads a leaf's corners and normals from neighbouring memory (fewer cache misses on
-        // scans of tens of thousands of triangles) without an index table.
+        // scans of tens of thousands of triangles) without an index table; the geometry's
+        // arrays and the normals' are gathered side by side too.
         let ((nodes, order), normals) = rayon::join(
             || {
                 let mut items: Vec<BuildItem> = (0..mesh.triangles.len())
@@ -106,38 +111,11 @@ impl TriangleBvh {
             },
             || PseudoNormals::new(mesh),
         );
-        let face_normals = order.iter().map(|&t| normals.face[t]).collect();
-        let edge_normals = order.iter().map(|&t| normals.edge[t]).collect();
-        let vertex_normals = order
-            .iter()
-            .map(|&t| {
-                mesh.triangles[t].map(|i| unit_or(normals.vertex_sums[i as usize], normals.face[t]))
-            })
-            .collect();
-        let corners: Vec<[Point3; 3]> = order.iter().map(|&t| mesh.corners(t)).collect();
-        let plane_normals = corners
-            .iter()
-            .map(|[a, b, c]| {
-                let (ab, ac) = (b - a, c - a);
-                let cross = ab.cross(&ac);
-                if cross.norm() > SLIVER_SINE * ab.norm() * ac.norm() {
-                    cross.normalize()
-                } else {
-                    Vec3::zeros()
-                }
-            })
-            .collect();
-        let spheres = corners
-            .iter()
-            .map(|[a, b, c]| {
-                let centre = Point3::from(triangle_centre(a, b, c));
-                let radius = (a - centre)
-                    .norm()
-                    .max((b - centre).norm())
-                    .max((c - centre).norm());
-                (centre, radius)
-            })
-            .collect();
+        let ((corners, plane_normals, spheres), (face_normals, edge_normals, vertex_normals)) =
+            rayon::join(
+                || gathered_geometry(mesh, &order),
+                || normals.gathered(mesh, &order),
+            );
         Self {
             corners,
             spheres,
@@ -505,29 +483,13 @@ impl PseudoNormals {
                 vertex_sums[tri[k] as usize] += normal * angle;
             }
         }
-        // The triangles' edges (three each) are sorted by their vertex pair, so that an edge's
-        // triangles lie together, in mesh order (a sort, not a map: a third of a
-        // million-triangle setup went to the map).
-        let mut edges: Vec<(u64, usize)> = mesh
-            .triangles
-            .iter()
-            .enumerate()
-            .flat_map(|(t, tri)| {
-                (0..3).map(move |k| {
-                    let (u, v) = (tri[k], tri[(k + 1) % 3]);
-                    ((u64::from(u.min(v)) << 32) | u64::from(u.max(v)), 3 * t + k)
-                })
-            })
-            .collect();
-        edges.sort_unstable();
         let mut edge = vec![[Vec3::zeros(); 3]; n];
-        for shared in edges.chunk_by(|x, y| x.0 == y.0) {
-            let sum = shared
+        for (_, corners) in EdgeGroups::new(&mesh.triangles).iter() {
+            let sum = corners
                 .iter()
-                .fold(Vec3::zeros(), |sum, &(_, slot)| sum + face[slot / 3]);
-            for &(_, slot) in shared {
-                let t = slot / 3;
-                edge[t][slot % 3] = unit_or(sum, face[t]);
+                .fold(Vec3::zeros(), |sum, (t, _)| sum + face[t]);
+            for (t, k) in corners.iter() {
+                edge[t][k] = unit_or(sum, face[t]);
             }
         }
         Self {
@@ -536,7 +498,56 @@ impl PseudoNormals {
             vertex_sums,
         }
     }
+
+    /// Each triangle's face normal, edge normals and unit vertex normals, in the tree's `order`.
+    fn gathered(&self, mesh: &TriangleMesh, order: &[usize]) -> Normals {
+        let face = order.iter().map(|&t| self.face[t]).collect();
+        let edge = order.iter().map(|&t| self.edge[t]).collect();
+        let vertex = order
+            .iter()
+            .map(|&t| {
+                mesh.triangles[t].map(|i| unit_or(self.vertex_sums[i as usize], self.face[t]))
+            })
+            .collect();
+        (face, edge, vertex)
+    }
 }
+
+/// Each triangle's corners, unit plane normal (zero for a sliver) and bounding sphere, in the
+/// tree's `order`.
+fn gathered_geometry(mesh: &TriangleMesh, order: &[usize]) -> Geometry {
+    let corners: Vec<[Point3; 3]> = order.iter().map(|&t| mesh.corners(t)).collect();
+    let plane_normals = corners
+        .iter()
+        .map(|[a, b, c]| {
+            let (ab, ac) = (b - a, c - a);
+            let cross = ab.cross(&ac);
+            if cross.norm() > SLIVER_SINE * ab.norm() * ac.norm() {
+                cross.normalize()
+            } else {
+                Vec3::zeros()
+            }
+        })
+        .collect();
+    let spheres = corners
+        .iter()
+        .map(|[a, b, c]| {
+            let centre = Point3::from(triangle_centre(a, b, c));
+            let radius = (a - centre)
+                .norm()
+                .max((b - centre).norm())
+                .max((c - centre).norm());
+            (centre, radius)
+        })
+        .collect();
+    (corners, plane_normals, spheres)
+}
+
+/// Per-triangle corners, plane normals and bounding spheres (see [`gathered_geometry`]).
+type Geometry = (Vec<[Point3; 3]>, Vec<Vec3>, Vec<(Point3, f64)>);
+
+/// Per-triangle face, edge and vertex pseudo-normals (see [`PseudoNormals::gathered`]).
+type Normals = (Vec<Vec3>, Vec<[Vec3; 3]>, Vec<[Vec3; 3]>);
 
 /// A triangle as the tree's build moves it: its centre (the split key), its box and its index.
 /// The build reorders these, not indices into per-triangle arrays, so that each level reads
@@ -546,6 +557,8 @@ struct BuildItem {
     centre: Vec3,
     bounds: Aabb,
     triangle: u32,
+    /// The item's bin in the split being made (kept from binning to partitioning).
+    bin: u8,
 }
 
 impl BuildItem {
@@ -557,6 +570,7 @@ impl BuildItem {
                 a.coords.sup(&b.coords).sup(&c.coords),
             ),
             triangle,
+            bin: 0,
         }
     }
 }
@@ -569,7 +583,8 @@ fn triangle_centre(a: &Point3, b: &Point3, c: &Point3) -> Vec3 {
 /// Builds node `index` of `nodes` (its box already set) at `depth` over `items`, which start at
 /// position `start` of the whole build's, with `centres` the box of their centres: both
 /// children pushed, then the left child's subtree built, then the right's; leaves refer to
-/// positions in the build's order.
+/// positions in the build's order. A node of more than [`PARALLEL_ITEMS`] builds its two
+/// subtrees side by side and grafts them in that order: the same tree as one thread builds.
 fn build(
     nodes: &mut Vec<Node>,
     items: &mut [BuildItem],
@@ -589,16 +604,53 @@ fn build(
     nodes.push(Node::around(&left.0));
     nodes.push(Node::around(&right.0));
     nodes[index].first = first as u32;
+    let parallel = items.len() > PARALLEL_ITEMS;
     let (left_items, right_items) = items.split_at_mut(mid);
-    build(nodes, left_items, first, start, depth + 1, left.1);
-    build(
-        nodes,
-        right_items,
-        first + 1,
-        start + mid,
-        depth + 1,
-        right.1,
-    );
+    if parallel {
+        let (left_tree, right_tree) = rayon::join(
+            || subtree(left, left_items, start, depth + 1),
+            || subtree(right, right_items, start + mid, depth + 1),
+        );
+        graft(nodes, &left_tree, first);
+        graft(nodes, &right_tree, first + 1);
+    } else {
+        build(nodes, left_items, first, start, depth + 1, left.1);
+        build(
+            nodes,
+            right_items,
+            first + 1,
+            start + mid,
+            depth + 1,
+            right.1,
+        );
+    }
+}
+
+/// The tree over `items` (their boxes `(bounds, centres)`) at `depth`, its root at index 0 and
+/// its inner nodes' child indices its own.
+fn subtree(
+    (bounds, centres): BoxPair,
+    items: &mut [BuildItem],
+    start: usize,
+    depth: usize,
+) -> Vec<Node> {
+    let mut nodes = vec![Node::around(&bounds)];
+    build(&mut nodes, items, 0, start, depth, centres);
+    nodes
+}
+
+/// Puts `tree` (from [`subtree`]) under the tree in `nodes`: its root in place of the node at
+/// `root`, the rest appended, child indices moved along.
+fn graft(nodes: &mut Vec<Node>, tree: &[Node], root: usize) {
+    let (offset, appended) = ((nodes.len() - 1) as u32, nodes.len());
+    nodes[root] = tree[0];
+    nodes.extend_from_slice(&tree[1..]);
+    for index in std::iter::once(root).chain(appended..nodes.len()) {
+        let node = &mut nodes[index];
+        if node.count == 0 {
+            node.first += offset;
+        }
+    }
 }
 
 /// Splits `items` (their box `bounds`, their centres' box `centres`) of a node at `depth`:
@@ -634,13 +686,12 @@ fn sah_split(items: &mut [BuildItem], (lo, hi): Aabb) -> Option<(usize, BoxPair,
         return None;
     }
     let scale = SAH_BINS as f64 / extent;
-    let bin =
-        |item: &BuildItem| (((item.centre[axis] - lo[axis]) * scale) as usize).min(SAH_BINS - 1);
     let mut bins = [EMPTY_BOX; SAH_BINS];
     let mut bin_centres = [EMPTY_BOX; SAH_BINS];
     let mut counts = [0usize; SAH_BINS];
-    for item in items.iter() {
-        let k = bin(item);
+    for item in items.iter_mut() {
+        let k = (((item.centre[axis] - lo[axis]) * scale) as usize).min(SAH_BINS - 1);
+        item.bin = k as u8;
         counts[k] += 1;
         bins[k] = grown(bins[k], item.bounds);
         bin_centres[k] = grown(bin_centres[k], (item.centre, item.centre));
@@ -671,7 +722,7 @@ fn sah_split(items: &mut [BuildItem], (lo, hi): Aabb) -> Option<(usize, BoxPair,
     let (_, split) = best?;
     let mut left_len = 0;
     for i in 0..items.len() {
-        if bin(&items[i]) < split {
+        if usize::from(items[i].bin) < split {
             items.swap(i, left_len);
             left_len += 1;
         }
@@ -911,6 +962,44 @@ mod tests {
                 .expect("within a metre");
             assert!((near.signed_distance.abs() - d).abs() < 1e-12 || d == 0.0);
         }
+    }
+
+    /// A tree whose top is built on two threads and grafted is laid out as one thread builds
+    /// it: walked left before right, its leaves hold consecutive runs of triangles covering
+    /// each once; every child lies after its parent and inside its box.
+    #[test]
+    fn a_tree_built_side_by_side_covers_every_triangle_once_in_leaf_order() {
+        let mesh = crate::shapes::torus(0.045, 0.014, 128, 64);
+        assert!(mesh.triangles.len() > 4 * PARALLEL_ITEMS);
+        let bvh = TriangleBvh::new(&mesh);
+        let contains = |outer: &Node, inner_min: &Point3, inner_max: &Point3| {
+            (0..3).all(|i| outer.min[i] <= inner_min[i] && inner_max[i] <= outer.max[i])
+        };
+        let (mut next, mut stack) = (0u32, vec![0usize]);
+        while let Some(index) = stack.pop() {
+            let node = bvh.nodes[index];
+            if node.count > 0 {
+                assert_eq!(node.first, next, "leaf {index} out of order");
+                next += node.count;
+                for corners in &bvh.corners[node.first as usize..next as usize] {
+                    for p in corners {
+                        assert!(contains(&node, p, p), "leaf {index} misses a corner");
+                    }
+                }
+                continue;
+            }
+            let first = node.first as usize;
+            assert!(first > index);
+            for child in [first, first + 1] {
+                let c = bvh.nodes[child];
+                assert!(
+                    contains(&node, &c.min, &c.max),
+                    "node {child} outside {index}"
+                );
+            }
+            stack.extend([first + 1, first]);
+        }
+        assert_eq!(next as usize, mesh.triangles.len());
     }
 
     /// Capsules many times a leaf's size, near a fine mesh, where the nodes' spheres cut off
