@@ -399,14 +399,14 @@ impl TriangleBvh {
     /// surface). Does not detect a capsule wholly inside; see [`TriangleBvh::capsule_touches`].
     pub fn segment_within(&self, a: &Point3, b: &Point3, radius: f64) -> bool {
         let segment = QuerySegment::new(a, b);
+        if segment.node_nearness(&self.nodes[0], radius).is_none() {
+            return false;
+        }
         let mut stack = [0u32; STACK];
         let mut top = 1;
         while top > 0 {
             top -= 1;
             let node = self.nodes[stack[top] as usize];
-            if !segment.meets_node(&node, radius) {
-                continue;
-            }
             if node.count > 0 {
                 for t in node.first as usize..(node.first + node.count) as usize {
                     let (centre, reach) = self.spheres[t];
@@ -424,10 +424,29 @@ impl TriangleBvh {
                         return true;
                     }
                 }
-            } else {
-                stack[top] = node.first;
-                stack[top + 1] = node.first + 1;
-                top += 2;
+                continue;
+            }
+            // The children the capsule may meet, the one whose centre is nearer the segment
+            // visited first: a capsule that touches is proven sooner.
+            let (left, right) = (node.first, node.first + 1);
+            let near_left = segment.node_nearness(&self.nodes[left as usize], radius);
+            let near_right = segment.node_nearness(&self.nodes[right as usize], radius);
+            match (near_left, near_right) {
+                (Some(l), Some(r)) => {
+                    let (first, second) = if l <= r { (left, right) } else { (right, left) };
+                    stack[top] = second;
+                    stack[top + 1] = first;
+                    top += 2;
+                }
+                (Some(_), None) => {
+                    stack[top] = left;
+                    top += 1;
+                }
+                (None, Some(_)) => {
+                    stack[top] = right;
+                    top += 1;
+                }
+                (None, None) => {}
             }
         }
         false
@@ -841,9 +860,19 @@ impl QuerySegment {
     /// leaves the box test alone lets through (on a 15k-triangle can, 60% of the node visits).
     #[inline]
     fn meets_node(&self, node: &Node, r: f64) -> bool {
+        self.node_nearness(node, r).is_some()
+    }
+
+    /// The squared distance from the segment to the node's centre when the capsule of radius
+    /// `r` may meet the node's triangles ([`Self::meets_node`]), `None` when it cannot.
+    #[inline]
+    fn node_nearness(&self, node: &Node, r: f64) -> Option<f64> {
         let reach = r + node.reach;
-        self.meets_box(&node.min, &node.max, r)
-            && self.distance_squared_to(&nalgebra::center(&node.min, &node.max)) <= reach * reach
+        if !self.meets_box(&node.min, &node.max, r) {
+            return None;
+        }
+        let d2 = self.distance_squared_to(&nalgebra::center(&node.min, &node.max));
+        (d2 <= reach * reach).then_some(d2)
     }
 
     /// Does the segment meet the box grown by `r` on every side? (slab test; a superset of "the
