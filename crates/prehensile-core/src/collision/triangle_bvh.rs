@@ -41,6 +41,9 @@ const SAH_BINS: usize = 16;
 /// Triangles in a node above which its two subtrees are built on two threads (each then pays
 /// for its own node list and the graft).
 const PARALLEL_ITEMS: usize = 2048;
+/// Depth from which subtrees are built on one thread whatever their size: 16 subtrees keep
+/// the cores busy, and each level built in parallel copies its nodes once more in the graft.
+const PARALLEL_DEPTH: usize = 4;
 
 #[derive(Debug, Clone, Copy)]
 struct Node {
@@ -602,8 +605,9 @@ fn triangle_centre(a: &Point3, b: &Point3, c: &Point3) -> Vec3 {
 /// Builds node `index` of `nodes` (its box already set) at `depth` over `items`, which start at
 /// position `start` of the whole build's, with `centres` the box of their centres: both
 /// children pushed, then the left child's subtree built, then the right's; leaves refer to
-/// positions in the build's order. A node of more than [`PARALLEL_ITEMS`] builds its two
-/// subtrees side by side and grafts them in that order: the same tree as one thread builds.
+/// positions in the build's order. A node of more than [`PARALLEL_ITEMS`] above
+/// [`PARALLEL_DEPTH`] builds its two subtrees side by side and grafts them in that order: the
+/// same tree as one thread builds.
 fn build(
     nodes: &mut Vec<Node>,
     items: &mut [BuildItem],
@@ -623,7 +627,7 @@ fn build(
     nodes.push(Node::around(&left.0));
     nodes.push(Node::around(&right.0));
     nodes[index].first = first as u32;
-    let parallel = items.len() > PARALLEL_ITEMS;
+    let parallel = items.len() > PARALLEL_ITEMS && depth < PARALLEL_DEPTH;
     let (left_items, right_items) = items.split_at_mut(mid);
     if parallel {
         let (left_tree, right_tree) = rayon::join(
