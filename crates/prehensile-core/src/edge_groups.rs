@@ -12,8 +12,9 @@
 /// Every edge of a list of triangles with the corners (`3 · triangle + k`, the edge from corner
 /// `k` to corner `k + 1`) that run along it either way, in mesh order.
 pub(crate) struct EdgeGroups {
-    /// `(higher vertex, corner)` of every corner's edge, in buckets by lower vertex, each bucket
-    /// sorted: an edge's corners lie together in mesh order.
+    /// `(higher vertex, 2 · corner + 1 if it runs from the lower vertex to the higher)` of every
+    /// corner's edge, in buckets by lower vertex, each bucket sorted: an edge's corners lie
+    /// together in mesh order.
     entries: Vec<(u32, u32)>,
     /// Where each lower vertex's bucket starts in `entries`, and where the last one ends.
     starts: Vec<u32>,
@@ -26,7 +27,8 @@ impl EdgeGroups {
         let (entries, starts) = sorted_in_vertex_buckets(triangles, |t, tri| {
             (0..3).map(move |k| {
                 let (u, v) = (tri[k], tri[(k + 1) % 3]);
-                (u.min(v), (u.max(v), (3 * t + k) as u32))
+                let corner = (3 * t + k) as u32;
+                (u.min(v), (u.max(v), 2 * corner + u32::from(u < v)))
             })
         });
         Self { entries, starts }
@@ -53,16 +55,29 @@ pub(crate) struct Corners<'a>(&'a [(u32, u32)]);
 impl Corners<'_> {
     /// Each corner as `(triangle, k)`: the triangle's edge from corner `k` to corner `k + 1`.
     pub(crate) fn iter(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
-        self.0
-            .iter()
-            .map(|&(_, corner)| (corner as usize / 3, corner as usize % 3))
+        self.0.iter().map(|&(_, code)| {
+            let corner = code as usize / 2;
+            (corner / 3, corner % 3)
+        })
+    }
+
+    /// How many of the corners run from the lower vertex to the higher.
+    pub(crate) fn forward(&self) -> usize {
+        self.0.iter().filter(|&&(_, code)| code % 2 == 1).count()
+    }
+
+    /// How many corners run along the edge.
+    pub(crate) fn len(&self) -> usize {
+        self.0.len()
     }
 }
 
 /// The items that `items_of` gives for each triangle (its index and corners), each under a
 /// vertex of that triangle: bucketed by the vertex with a counting sort (stable, linear), each
 /// bucket then sorted. Returns the items and where each vertex's bucket starts (and the last
-/// ends).
+/// ends). `items_of` is called again in each pass rather than its items kept in a list: that
+/// list cost more than the calls (`EdgeGroups::new` 18 M → 33 M instructions over three setups
+/// of the 16k torus).
 pub(crate) fn sorted_in_vertex_buckets<T, I>(
     triangles: &[[u32; 3]],
     items_of: impl Fn(usize, [u32; 3]) -> I,
@@ -131,6 +146,14 @@ mod tests {
                 ((2, 3), vec![(1, 2)]),
                 ((3, 3), vec![(2, 0)]),
             ]
+        );
+        let forward: Vec<(usize, usize)> = groups
+            .iter()
+            .map(|(_, corners)| (corners.forward(), corners.len()))
+            .collect();
+        assert_eq!(
+            forward,
+            vec![(1, 1), (0, 1), (1, 2), (1, 2), (1, 1), (0, 1), (0, 1)]
         );
         assert_eq!(EdgeGroups::new(&[]).iter().count(), 0);
     }

@@ -587,12 +587,9 @@ impl TriangleMesh {
         EdgeGroups::new(&self.triangles)
             .iter()
             .filter(|((u, v), _)| u != v)
-            .map(|((u, v), corners)| {
-                let forward = corners
-                    .iter()
-                    .filter(|&(t, k)| self.triangles[t][k] == u)
-                    .count() as u32;
-                ((u, v), (forward, corners.iter().count() as u32 - forward))
+            .map(|(ends, corners)| {
+                let forward = corners.forward() as u32;
+                (ends, (forward, corners.len() as u32 - forward))
             })
             .collect()
     }
