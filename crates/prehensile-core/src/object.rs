@@ -3,7 +3,7 @@
 
 use crate::collision::{
     inside_volume_and_centroid, overlaps_itself, BoundaryFan, Capsule, CollisionCounters,
-    MeshCollider, TriangleBvh,
+    MeshCollider, TriangleBvh, WindingCost, MOST_WINDING_TERMS,
 };
 use crate::math::Point3;
 use crate::mesh::{MeshError, MeshReport, TriangleMesh};
@@ -42,6 +42,17 @@ pub enum ObjectError {
     NoInside {
         /// What is wrong with the surface.
         why: String,
+    },
+    /// The mesh's triangles crowd so closely around every point that each winding-number
+    /// inside test would sum nearly all of them (see [`WindingCost`]).
+    #[error("deciding what is inside this mesh would take too long ({why}): at {costly} of {probes} points in and around it, one winding number needs more than {MOST_WINDING_TERMS} triangle terms, because a great many triangles lie close to every point (e.g. thousands of faces sharing one edge); remove the extra faces or close the mesh, so that its inside comes from distances")]
+    CostlyInside {
+        /// What is wrong with the surface.
+        why: String,
+        /// Probe points whose query exceeded the cap.
+        costly: usize,
+        /// Points probed.
+        probes: usize,
     },
     /// A hook is not a finite point.
     #[error("hook {0} is not a finite point")]
@@ -185,7 +196,17 @@ impl ObjectModel {
             // Zero-area triangles, dropped above, change no crossing count; the fan is over the
             // boundary the winding tree sees, without them.
             let fan = BoundaryFan::new(&mesh);
-            let collider = MeshCollider::from_exact(exact.into_winding_numbers(), 0.03);
+            let exact = exact.into_winding_numbers();
+            let cost = WindingCost::probe(&exact, &mesh);
+            if !cost.affordable() {
+                let WindingCost { costly, probes } = cost;
+                return Err(ObjectError::CostlyInside {
+                    why,
+                    costly,
+                    probes,
+                });
+            }
+            let collider = MeshCollider::from_exact(exact, 0.03);
             let cells = if fan.as_ref().is_some_and(BoundaryFan::is_empty) {
                 VOLUME_CELLS
             } else {

@@ -83,15 +83,15 @@ pub fn run(args: &CheckArgs) -> Result<i32, CliError> {
         );
         Ok(0)
     } else {
+        // The defects, then what made the search refuse the mesh (a defective mesh may still
+        // be accepted by its winding number, so the defects alone do not say why).
         for d in &report.defects {
-            eprintln!("error: {name}: {d}");
+            eprintln!("note: {name}: {d}");
         }
-        if report.defects.is_empty() {
-            eprintln!(
-                "error: {name}: {}",
-                check.grasp_error.as_deref().unwrap_or("refused")
-            );
-        }
+        eprintln!(
+            "error: {name}: {}",
+            check.grasp_error.as_deref().unwrap_or("refused")
+        );
         eprintln!("{name}: prehensile grasp refuses this mesh");
         Ok(2)
     }

@@ -279,3 +279,30 @@ fn millions_of_copies_of_one_face_are_counted_once() {
     assert!(err.contains("duplicate triangle(s)"), "{err}");
     assert!(err.contains("accepts this mesh"), "{err}");
 }
+
+#[test]
+fn a_book_of_pages_sharing_one_edge_is_refused_before_its_winding_numbers() {
+    // 100,000 triangles all on the edge from (0, 0, 0) to (0, 0, 0.05), fanned around it like
+    // the pages of a book: every winding-number query summed every page, and `check` took two
+    // minutes. Probing a few points now finds them too costly, in well under a second.
+    let path = scratch("book.obj");
+    let pages = 100_000;
+    let mut obj = String::from("v 0 0 0\nv 0 0 0.05\n");
+    for i in 0..pages {
+        let angle = std::f64::consts::TAU * i as f64 / pages as f64;
+        obj.push_str(&format!(
+            "v {} {} 0.02\n",
+            0.05 * angle.cos(),
+            0.05 * angle.sin()
+        ));
+    }
+    for i in 0..pages {
+        obj.push_str(&format!("f 1 2 {}\n", i + 3));
+    }
+    std::fs::write(&path, &obj).unwrap();
+    refused(&["check", s(&path)], "would take too long");
+    refused(
+        &["grasp", "--object", s(&path)],
+        "needs more than 8192 triangle terms",
+    );
+}

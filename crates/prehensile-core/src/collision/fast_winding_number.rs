@@ -133,10 +133,33 @@ impl WindingNumberTree {
 
     /// The winding number at `p` (`corners` as the tree was built from).
     pub(super) fn winding_number(&self, corners: &[[Point3; 3]], p: &Point3) -> f64 {
+        self.solid_angle_sum(corners, p, usize::MAX).0 / (4.0 * PI)
+    }
+
+    /// The winding number at `p` if it takes at most `most_terms` terms (expansions and
+    /// triangles' solid angles), else `None` after that many: what bounds the work of a probe.
+    pub(super) fn winding_number_within(
+        &self,
+        corners: &[[Point3; 3]],
+        p: &Point3,
+        most_terms: usize,
+    ) -> Option<f64> {
+        let (solid_angle, terms) = self.solid_angle_sum(corners, p, most_terms);
+        (terms <= most_terms).then_some(solid_angle / (4.0 * PI))
+    }
+
+    /// The solid angle at `p` and how many terms it took, stopping once more than `most_terms`.
+    fn solid_angle_sum(
+        &self,
+        corners: &[[Point3; 3]],
+        p: &Point3,
+        most_terms: usize,
+    ) -> (f64, usize) {
         let mut solid_angle = 0.0;
+        let mut terms = 0usize;
         let mut stack = [0u32; STACK];
         let mut top = 1;
-        while top > 0 {
+        while top > 0 && terms <= most_terms {
             top -= 1;
             let i = stack[top] as usize;
             let dipole = &self.dipoles[i];
@@ -149,6 +172,7 @@ impl WindingNumberTree {
                 let m = &dipole.second_order;
                 solid_angle += r.dot(&dipole.area_normal) / d3 + m.trace() / d3
                     - 3.0 * r.dot(&(m * r)) / (d3 * distance * distance);
+                terms += 1;
                 continue;
             }
             let node = self.nodes[i];
@@ -156,13 +180,14 @@ impl WindingNumberTree {
                 for triangle in &corners[node.first as usize..(node.first + node.count) as usize] {
                     solid_angle += triangle_solid_angle(triangle, p);
                 }
+                terms += node.count as usize;
             } else {
                 stack[top] = node.first;
                 stack[top + 1] = node.first + 1;
                 top += 2;
             }
         }
-        solid_angle / (4.0 * PI)
+        (solid_angle, terms)
     }
 }
 

@@ -16,6 +16,7 @@ mod fast_winding_number;
 mod inside_volume;
 mod signed_distance_grid;
 mod triangle_bvh;
+mod winding_cost;
 
 pub use boundary_fan::BoundaryFan;
 pub use capsule_contact::CapsuleContact;
@@ -23,6 +24,7 @@ pub use fast_winding_number::{triangle_solid_angle, WindingNumberTree};
 pub use inside_volume::{inside_volume_and_centroid, overlaps_itself, InsideVolume};
 pub use signed_distance_grid::{Decision, SignedDistanceGrid, SEARCH_SPACING};
 pub use triangle_bvh::{SurfacePoint, TriangleBvh};
+pub use winding_cost::{WindingCost, MOST_WINDING_TERMS};
 
 use std::sync::OnceLock;
 

@@ -174,6 +174,16 @@ impl TriangleBvh {
         }
     }
 
+    /// [`TriangleBvh::winding_number`] at `p` if it takes at most `most_terms` terms (the
+    /// tree's expansions and triangles' solid angles; every triangle without a tree), else
+    /// `None`, after at most that much work.
+    pub fn winding_number_within(&self, p: &Point3, most_terms: usize) -> Option<f64> {
+        match &self.winding {
+            Some(tree) => tree.winding_number_within(&self.corners, p, most_terms),
+            None => (self.corners.len() <= most_terms).then(|| self.winding_number(p)),
+        }
+    }
+
     /// Is `p` inside the object? Winding number above ½ in magnitude (so a part wound inside
     /// out still counts, and a cavity wound inward is empty), within the bounding box, for a mesh
     /// built with winding numbers, negative signed distance otherwise.
