@@ -4,7 +4,8 @@
 //! the distance grid's nodes it needs and the later ones reuse them. A second argument runs the
 //! three seeds that many rounds (default 1), so that a profile of the later rounds sees the
 //! search on a warm grid, as a batch or a game that keeps its object does. A third argument names
-//! another hand (built-in or a hand file) whose `power` movement is searched instead.
+//! another hand (built-in or a hand file) whose `power` movement is searched instead. The
+//! environment variable `THREADS` sets the search's threads (default 1).
 use prehensile_core::math::Vec3;
 use prehensile_core::search::{default_shoulder, GraspPlanner, SearchParams};
 use prehensile_core::{shapes, ObjectModel};
@@ -32,6 +33,8 @@ fn main() {
             shoulder,
             SearchParams {
                 seed,
+                threads: std::env::var("THREADS")
+                    .map_or(1, |t| t.parse().expect("a number of threads")),
                 ..Default::default()
             },
         )

@@ -196,7 +196,13 @@ impl ObjectModel {
             // Zero-area triangles, dropped above, change no crossing count; the fan is over the
             // boundary the winding tree sees, without them.
             let fan = BoundaryFan::new(&mesh);
-            let exact = exact.into_winding_numbers();
+            // Closed parts that overlap keep the distance grids; holes leave the exact path.
+            let whole = mesh.unbalanced_edges().is_empty();
+            let exact = if whole {
+                exact.into_whole_winding_numbers()
+            } else {
+                exact.into_winding_numbers()
+            };
             let cost = WindingCost::probe(&exact, &mesh);
             if !cost.affordable() {
                 let WindingCost { costly, probes } = cost;
@@ -223,8 +229,13 @@ impl ObjectModel {
                     "dropped {dropped} zero-area triangle(s); they bound nothing"
                 ));
             }
+            let path = if whole {
+                "the search's collision tests read the distance grid, signed by that inside"
+            } else {
+                "collision uses the exact path only"
+            };
             repairs.push(format!(
-                "the mesh is not one clean closed surface ({why}): its inside is where the generalized winding number exceeds ½ in magnitude, volume {volume:.4e} m³ from that inside; collision uses the exact path only"
+                "the mesh is not one clean closed surface ({why}): its inside is where the generalized winding number exceeds ½ in magnitude, volume {volume:.4e} m³ from that inside; {path}"
             ));
             (collider, volume, center_of_mass)
         };

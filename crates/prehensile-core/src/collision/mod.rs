@@ -6,9 +6,11 @@
 //! finer grid ([`MeshCollider::contact_grid`]): a coarse grid costs the search fewer
 //! nearest-triangle queries, a fine one the contacts less interpolation error. A mesh that is
 //! not a clean closed manifold
-//! has its inside from winding numbers (`fast_winding_number`) and only the exact path: a
-//! signed distance whose sign flips across a hole, away from any triangle, is not the Lipschitz
-//! function the grid's bounds need.
+//! has its inside from winding numbers (`fast_winding_number`). With holes it has only the exact
+//! path: a signed distance whose sign flips across a hole, away from any triangle, is not the
+//! Lipschitz function the grid's bounds need. Closed parts that overlap keep the search's grid
+//! for its yes/no tests (their winding number changes only across triangles), but not its
+//! distance bounds, nor the contact grid (see [`MeshCollider::from_exact`]).
 
 mod boundary_fan;
 mod capsule_contact;
@@ -31,12 +33,10 @@ use std::sync::OnceLock;
 use crate::math::Point3;
 
 /// An unfilled distance grid around `exact`'s mesh, `margin` metres past it, nodes at least
-/// `least_spacing` apart; none when its signs come from winding numbers.
-fn grid_around(exact: &TriangleBvh, margin: f64, least_spacing: f64) -> Option<SignedDistanceGrid> {
-    (!exact.uses_winding_numbers()).then(|| {
-        let (lo, hi) = exact.bounds();
-        SignedDistanceGrid::new(lo, hi, margin, least_spacing)
-    })
+/// `least_spacing` apart.
+fn grid_around(exact: &TriangleBvh, margin: f64, least_spacing: f64) -> SignedDistanceGrid {
+    let (lo, hi) = exact.bounds();
+    SignedDistanceGrid::new(lo, hi, margin, least_spacing)
 }
 
 /// A capsule in world coordinates: the segment `a–b` swept by a sphere of `radius`.
@@ -79,10 +79,21 @@ pub struct MeshCollider {
 
 impl MeshCollider {
     /// The colliders around an exact path: with the distance grids (`margin` metres beyond the
-    /// mesh) when its signs come from pseudo-normals, alone when from winding numbers.
+    /// mesh) when its signs come from pseudo-normals, alone when from winding numbers across
+    /// holes. A mesh of closed parts that overlap (whole winding numbers,
+    /// [`TriangleBvh::signs_change_only_at_the_surface`]) gets the search's grid for its yes/no
+    /// tests, which give the exact answers. Its distances are right outside the object but
+    /// inside they measure to the nearest triangle, buried ones too, so it gets no contact grid
+    /// (whose gradients are contact normals) and no
+    /// [clearance bounds](MeshCollider::segment_clearance_upper_bound). Those bounds stay valid,
+    /// but their longer leaps made TranslateToFree step over free gaps that its 4 mm steps
+    /// find: on a box overlapped by a sphere, 4 of 10 Shadow hand grasps held in ≥ 5
+    /// directions with them, 10 of 10 without (docs/PERFORMANCE.md, session 43).
     pub fn from_exact(exact: TriangleBvh, margin: f64) -> Self {
         Self {
-            fast: grid_around(&exact, margin, SEARCH_SPACING),
+            fast: exact
+                .signs_change_only_at_the_surface()
+                .then(|| grid_around(&exact, margin, SEARCH_SPACING)),
             exact,
             contact: OnceLock::new(),
             margin,
@@ -94,8 +105,8 @@ impl MeshCollider {
         &self.exact
     }
 
-    /// The distance grid of the search's capsule tests (none for a mesh whose inside is from
-    /// winding numbers).
+    /// The distance grid of the search's capsule tests (none for a mesh with holes, whose inside
+    /// is from winding numbers).
     pub fn grid(&self) -> Option<&SignedDistanceGrid> {
         self.fast.as_ref()
     }
@@ -104,7 +115,10 @@ impl MeshCollider {
     /// ([`Self::capsule_contact`]); none for a mesh whose inside is from winding numbers.
     pub fn contact_grid(&self) -> Option<&SignedDistanceGrid> {
         self.contact
-            .get_or_init(|| grid_around(&self.exact, self.margin, 0.0))
+            .get_or_init(|| {
+                (!self.exact.uses_winding_numbers())
+                    .then(|| grid_around(&self.exact, self.margin, 0.0))
+            })
             .as_ref()
     }
 
@@ -118,13 +132,17 @@ impl MeshCollider {
     }
 
     /// An upper bound on the smallest signed distance along segment `a–b` (+∞ when the grid
-    /// cannot bound it, or there is no grid), from the distance grid; only a bound below
+    /// cannot bound it, or there is no grid, or the inside is from winding numbers), from the
+    /// distance grid; only a bound below
     /// `below` is asked for (at or above it, some number at least `below`; pass `f64::INFINITY`
     /// for the tightest bound the grid gives).
     pub fn segment_clearance_upper_bound(&self, a: &Point3, b: &Point3, below: f64) -> f64 {
-        self.fast.as_ref().map_or(f64::INFINITY, |grid| {
-            grid.segment_clearance_upper_bound(&self.exact, a, b, below)
-        })
+        match &self.fast {
+            Some(grid) if !self.exact.uses_winding_numbers() => {
+                grid.segment_clearance_upper_bound(&self.exact, a, b, below)
+            }
+            _ => f64::INFINITY,
+        }
     }
 
     /// Fast test, same answer as the exact one: does the capsule touch or lie inside the object?

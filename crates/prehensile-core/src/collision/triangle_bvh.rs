@@ -89,6 +89,9 @@ pub struct TriangleBvh {
     nodes: Vec<Node>,
     /// Present when the inside is given by winding numbers instead of pseudo-normals.
     winding: Option<WindingNumberTree>,
+    /// The winding number is a whole number off the surface (every edge balanced), so the
+    /// inside changes only across triangles ([`TriangleBvh::into_whole_winding_numbers`]).
+    whole_winding: bool,
 }
 
 impl TriangleBvh {
@@ -128,6 +131,7 @@ impl TriangleBvh {
             vertex_normals,
             nodes,
             winding: None,
+            whole_winding: false,
         }
     }
 
@@ -151,6 +155,27 @@ impl TriangleBvh {
             .collect();
         self.winding = Some(WindingNumberTree::new(links, &self.corners));
         self
+    }
+
+    /// [`TriangleBvh::into_winding_numbers`] for a surface whose every edge is balanced (no
+    /// [unbalanced edges](TriangleMesh::unbalanced_edges): closed parts that overlap or touch
+    /// along an edge, a face pushed through another). Its winding number is then a whole number
+    /// off the surface and the inside changes only across triangles, so the signed distance
+    /// stays 1-Lipschitz and the distance grids apply
+    /// ([`TriangleBvh::signs_change_only_at_the_surface`]).
+    pub fn into_whole_winding_numbers(self) -> Self {
+        Self {
+            whole_winding: true,
+            ..self.into_winding_numbers()
+        }
+    }
+
+    /// Does the sign of the signed distance change only across the surface, so that the signed
+    /// distance is 1-Lipschitz, as the distance grids' bounds need? Yes for pseudo-normal signs
+    /// and [whole winding numbers](TriangleBvh::into_whole_winding_numbers); no across the holes
+    /// of an open surface, where the winding number passes ½ away from any triangle.
+    pub fn signs_change_only_at_the_surface(&self) -> bool {
+        self.winding.is_none() || self.whole_winding
     }
 
     /// Is the inside given by winding numbers (the mesh is not a clean closed manifold)?

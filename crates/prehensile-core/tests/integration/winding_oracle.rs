@@ -114,7 +114,13 @@ fn objects_from_open_overlapping_and_self_intersecting_meshes_get_the_inside_vol
             "{name}: {:?}",
             object.repairs()
         );
-        assert_eq!(object.collider().grid().is_none(), !clean, "{name}");
+        // Meshes with holes lose the distance grid; closed ones whose parts overlap keep it,
+        // signed by their whole winding numbers.
+        let holes = !mesh(name).unbalanced_edges().is_empty();
+        assert_eq!(object.collider().grid().is_none(), holes, "{name}");
+        if name == "overlapping_cubes" {
+            assert!(!holes);
+        }
     }
 }
 
