@@ -86,9 +86,10 @@ impl MeshCollider {
     /// inside they measure to the nearest triangle, buried ones too, so it gets no contact grid
     /// (whose gradients are contact normals) and no
     /// [clearance bounds](MeshCollider::segment_clearance_upper_bound). Those bounds stay valid,
-    /// but their longer leaps made TranslateToFree step over free gaps that its 4 mm steps
-    /// find: on a box overlapped by a sphere, 4 of 10 Shadow hand grasps held in ≥ 5
-    /// directions with them, 10 of 10 without (docs/PERFORMANCE.md, session 43).
+    /// but they move where TranslateToFree's leaps (at least 4 mm) land, and there the leaps
+    /// passed thin free gaps that plain 4 mm steps stop in: on a box overlapped by a sphere,
+    /// 4 of 10 Shadow hand grasps held in ≥ 5 directions with them, 10 of 10 without
+    /// (docs/PERFORMANCE.md, session 43).
     pub fn from_exact(exact: TriangleBvh, margin: f64) -> Self {
         Self {
             fast: exact
