@@ -559,6 +559,41 @@ impl TriangleMesh {
         Some((mesh, turned))
     }
 
+    /// The mesh without the vertices no triangle uses, the others kept in their order, and how
+    /// many were dropped. A stray vertex far from the surface changes no triangle, but it would
+    /// stretch everything taken over the vertices: the simulation's convex hull of the object,
+    /// the search's widths, a picture's frame.
+    pub fn without_unused_vertices(self) -> (Self, usize) {
+        let mut used = vec![false; self.vertices.len()];
+        for &i in self.triangles.iter().flatten() {
+            used[i as usize] = true;
+        }
+        let unused = used.iter().filter(|&&u| !u).count();
+        if unused == 0 {
+            return (self, 0);
+        }
+        let mut index = vec![u32::MAX; self.vertices.len()];
+        let mut vertices = Vec::with_capacity(self.vertices.len() - unused);
+        for (i, p) in self.vertices.iter().enumerate() {
+            if used[i] {
+                index[i] = vertices.len() as u32;
+                vertices.push(*p);
+            }
+        }
+        let triangles = self
+            .triangles
+            .iter()
+            .map(|t| t.map(|i| index[i as usize]))
+            .collect();
+        (
+            Self {
+                vertices,
+                triangles,
+            },
+            unused,
+        )
+    }
+
     /// The mesh without its (near) zero-area triangles, and how many were dropped. Unlike
     /// [`TriangleMesh::remove_degenerate_triangles`] it does not mend the neighbours, so a closed
     /// mesh may open: for meshes whose inside comes from winding numbers, which a zero-area

@@ -97,7 +97,8 @@ impl ObjectModel {
     ///
     /// Exact repairs that leave the shape unchanged come first: collapsed triangles,
     /// coincident opposite pairs and same-wound duplicates are dropped, zero-area slivers removed by splitting their
-    /// neighbours, an inside-out closed mesh turned the right way. A clean closed manifold then
+    /// neighbours, an inside-out closed mesh turned the right way, vertices no triangle uses
+    /// dropped. A clean closed manifold then
     /// gets pseudo-normal signs and the distance grid. Any other mesh — open, non-manifold,
     /// inconsistently wound, or of overlapping parts — gets its inside from generalized winding
     /// numbers, and its volume and centre of mass from that inside. [`ObjectModel::repairs`]
@@ -170,6 +171,13 @@ impl ObjectModel {
                 return Err(MeshError::Empty.into());
             }
             (mesh, dropped) = (kept, n);
+        }
+        let (mesh, unused) = mesh.without_unused_vertices();
+        if unused > 0 {
+            repairs.push(format!(
+                "dropped {unused} vertex(es) that no triangle uses; the shape is unchanged"
+            ));
+            report.vertices = mesh.vertices.len();
         }
         let exact = TriangleBvh::new(&mesh);
         let overlapping = !defective && overlaps_itself(&exact, OVERLAP_SCAN_CELLS);

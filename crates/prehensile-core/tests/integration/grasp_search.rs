@@ -1350,3 +1350,48 @@ fn a_grid_filled_up_front_gives_the_same_grasps() {
         );
     }
 }
+
+#[test]
+fn a_vertex_no_triangle_uses_changes_no_grasp() {
+    // A stray vertex 170 m away in a 5 cm cube's file made every power search of it fail: the
+    // search's widths were taken over the vertices. It is dropped, and the grasp is the cube's.
+    let cube = shapes::cuboid(Vec3::new(0.05, 0.05, 0.05));
+    let mut stray = cube.clone();
+    stray.vertices.insert(3, Point3::new(100.0, 100.0, 100.0));
+    for t in &mut stray.triangles {
+        for i in t.iter_mut() {
+            if *i >= 3 {
+                *i += 1;
+            }
+        }
+    }
+    let (clean, with_stray) = (
+        ObjectModel::new("cube", cube, None).unwrap(),
+        ObjectModel::new("cube", stray, None).unwrap(),
+    );
+    assert!(clean.repairs().is_empty(), "{:?}", clean.repairs());
+    assert!(
+        with_stray
+            .repairs()
+            .iter()
+            .any(|r| r.contains("dropped 1 vertex(es) that no triangle uses")),
+        "{:?}",
+        with_stray.repairs()
+    );
+    assert_eq!(clean.mesh(), with_stray.mesh());
+    let hand = common::hand("human");
+    let m = hand.movement("power").unwrap();
+    let shoulder = Point3::new(-0.35, -0.2, 0.4);
+    let best = |object: &ObjectModel| {
+        let params = SearchParams {
+            seed: 1,
+            ..Default::default()
+        };
+        let mut p = GraspPlanner::new(&hand, object, m, shoulder, params).unwrap();
+        p.run_to_end();
+        p.best().cloned()
+    };
+    let grasp = best(&clean);
+    assert!(grasp.is_some());
+    assert_eq!(grasp, best(&with_stray));
+}
