@@ -306,3 +306,29 @@ fn a_book_of_pages_sharing_one_edge_is_refused_before_its_winding_numbers() {
         "needs more than 8192 triangle terms",
     );
 }
+
+#[test]
+fn a_hand_of_a_thousand_fingers_is_searched_in_seconds() {
+    // A URDF palm with 999 one-link fingers in a ring (the most bones a hand may have): every
+    // pose's contacts ran into hundreds, and the narrowest cone of their normals, O(n⁴) by
+    // trying every candidate direction, kept one search going for minutes. The incremental
+    // algorithm ends it in seconds, with whatever grasp there is.
+    let path = scratch("thousand_fingers.urdf");
+    let fingers = 999;
+    let mut urdf = String::from(
+        r#"<robot name="many"><link name="palm"><collision><geometry><box size="0.08 0.02 0.08"/></geometry></collision></link>"#,
+    );
+    for i in 0..fingers {
+        let angle = std::f64::consts::TAU * i as f64 / fingers as f64;
+        urdf.push_str(&format!(
+            r#"<link name="f{i}"><collision><origin xyz="0 0 0.02"/><geometry><cylinder radius="0.004" length="0.04"/></geometry></collision></link><joint name="j{i}" type="revolute"><parent link="palm"/><child link="f{i}"/><origin xyz="{:.4} 0.01 {:.4}"/><axis xyz="1 0 0"/><limit lower="0" upper="1.5" effort="1" velocity="1"/></joint>"#,
+            0.04 * angle.cos(),
+            0.04 * angle.sin()
+        ));
+    }
+    urdf.push_str("</robot>");
+    std::fs::write(&path, urdf).unwrap();
+    let (code, err) = run(&["grasp", "--hand", s(&path)], Stdio::null());
+    assert!(matches!(code, Some(0 | 1)), "{err}");
+    assert!(err.contains("many on sphere"), "{err}");
+}
