@@ -10,7 +10,7 @@
 //! and keeping the one whose farthest normal is nearest. That is O(n³) candidate directions for n
 //! contacts (about 20 µs for the 17 contacts of the largest grasps measured, 0.5 ms for 40), and
 //! needs no solver; caps of a hemisphere or wider all count as "not one-sided" and are reported
-//! as 90°. Above [`DIRECT_NORMALS`] normals (a crafted hand of hundreds of fingers: 500 of them
+//! as 90°. Above 32 normals (a crafted hand of hundreds of fingers: 500 of them
 //! took 53 s a search, nearly all of it here) the same cap is found by the randomized
 //! incremental algorithm of the smallest enclosing circle (Welzl 1991), in expected O(n).
 
