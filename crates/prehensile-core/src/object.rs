@@ -45,7 +45,7 @@ pub enum ObjectError {
     },
     /// The mesh's triangles crowd so closely around every point that each winding-number
     /// inside test would sum nearly all of them (see [`WindingCost`]).
-    #[error("deciding what is inside this mesh would take too long ({why}): at {costly} of {probes} points in and around it, one winding number needs more than {MOST_WINDING_TERMS} triangle terms, because a great many triangles lie close to every point (e.g. thousands of faces sharing one edge); remove the extra faces or close the mesh, so that its inside comes from distances")]
+    #[error("deciding what is inside this mesh would take too long ({why}): at {costly} of {probes} points in and around it, one winding number needs more than {MOST_WINDING_TERMS} triangle terms, because a great many triangles lie close to every point (e.g. thousands of faces sharing one edge, or a polygon of thousands of sides fanned from one corner); remove the extra faces or close the mesh, so that its inside comes from distances")]
     CostlyInside {
         /// What is wrong with the surface.
         why: String,
@@ -201,6 +201,11 @@ impl ObjectModel {
             } else {
                 "it overlaps itself: parts overlap or a face passes through another".to_string()
             };
+            // A mesh flat along an axis bounds nothing, however its winding numbers would come
+            // out: say so before spending anything on them.
+            if report.size.contains(&0.0) {
+                return Err(ObjectError::NoInside { why });
+            }
             // Zero-area triangles, dropped above, change no crossing count; the fan is over the
             // boundary the winding tree sees, without them.
             let fan = BoundaryFan::new(&mesh);

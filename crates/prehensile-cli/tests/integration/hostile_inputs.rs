@@ -305,6 +305,25 @@ fn a_book_of_pages_sharing_one_edge_is_refused_before_its_winding_numbers() {
         &["grasp", "--object", s(&path)],
         "needs more than 8192 triangle terms",
     );
+    // One flat face of 100,000 corners, fanned from its first: refused as flat, before any
+    // winding number is asked.
+    let path = scratch("polygon.obj");
+    let mut obj = String::new();
+    for i in 0..pages {
+        let angle = std::f64::consts::TAU * i as f64 / pages as f64;
+        obj.push_str(&format!(
+            "v {} {} 0\n",
+            0.05 * angle.cos(),
+            0.05 * angle.sin()
+        ));
+    }
+    obj.push('f');
+    for i in 0..pages {
+        obj.push_str(&format!(" {}", i + 1));
+    }
+    obj.push('\n');
+    std::fs::write(&path, &obj).unwrap();
+    refused(&["check", s(&path)], "encloses no volume");
 }
 
 #[test]

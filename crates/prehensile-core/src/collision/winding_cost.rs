@@ -92,11 +92,26 @@ mod tests {
     }
 
     #[test]
-    fn a_book_of_pages_sharing_one_edge_is_too_costly_and_a_holed_torus_is_not() {
+    fn a_book_of_pages_or_a_fanned_polygon_is_too_costly_and_a_holed_torus_is_not() {
         let pages = book(3 * MOST_WINDING_TERMS);
         let cost = WindingCost::probe(&TriangleBvh::with_winding_numbers(&pages), &pages);
         assert_eq!(cost.costly, cost.probes, "{cost:?}");
         assert!(!cost.affordable());
+        // A polygon of as many sides fanned from one corner (as an OBJ face of that many
+        // vertices is read), tilted: slivers that all meet at that corner.
+        let sides = 3 * MOST_WINDING_TERMS as u32;
+        let polygon = TriangleMesh {
+            vertices: (0..sides)
+                .map(|i| {
+                    let angle = std::f64::consts::TAU * f64::from(i) / f64::from(sides);
+                    let (x, y) = (0.05 * angle.cos(), 0.05 * angle.sin());
+                    Point3::new(x, y, 0.3 * x)
+                })
+                .collect(),
+            triangles: (1..sides - 1).map(|i| [0, i, i + 1]).collect(),
+        };
+        let cost = WindingCost::probe(&TriangleBvh::with_winding_numbers(&polygon), &polygon);
+        assert!(!cost.affordable(), "{cost:?}");
         // A torus of 32k triangles with every seventh removed: a real scan's kind of holes.
         let torus = shapes::torus(0.045, 0.014, 256, 64);
         let holed = TriangleMesh {
