@@ -280,6 +280,16 @@ fn millions_of_copies_of_one_face_are_counted_once() {
     assert!(err.contains("accepts this mesh"), "{err}");
 }
 
+/// OBJ lines of `count` vertices evenly round a circle of 5 cm radius at height `z`.
+fn ring_of_vertices(count: usize, z: f64) -> String {
+    (0..count)
+        .map(|i| {
+            let angle = std::f64::consts::TAU * i as f64 / count as f64;
+            format!("v {} {} {z}\n", 0.05 * angle.cos(), 0.05 * angle.sin())
+        })
+        .collect()
+}
+
 #[test]
 fn a_book_of_pages_sharing_one_edge_is_refused_before_its_winding_numbers() {
     // 100,000 triangles all on the edge from (0, 0, 0) to (0, 0, 0.05), fanned around it like
@@ -288,14 +298,7 @@ fn a_book_of_pages_sharing_one_edge_is_refused_before_its_winding_numbers() {
     let path = scratch("book.obj");
     let pages = 100_000;
     let mut obj = String::from("v 0 0 0\nv 0 0 0.05\n");
-    for i in 0..pages {
-        let angle = std::f64::consts::TAU * i as f64 / pages as f64;
-        obj.push_str(&format!(
-            "v {} {} 0.02\n",
-            0.05 * angle.cos(),
-            0.05 * angle.sin()
-        ));
-    }
+    obj.push_str(&ring_of_vertices(pages, 0.02));
     for i in 0..pages {
         obj.push_str(&format!("f 1 2 {}\n", i + 3));
     }
@@ -308,15 +311,7 @@ fn a_book_of_pages_sharing_one_edge_is_refused_before_its_winding_numbers() {
     // One flat face of 100,000 corners, fanned from its first: refused as flat, before any
     // winding number is asked.
     let path = scratch("polygon.obj");
-    let mut obj = String::new();
-    for i in 0..pages {
-        let angle = std::f64::consts::TAU * i as f64 / pages as f64;
-        obj.push_str(&format!(
-            "v {} {} 0\n",
-            0.05 * angle.cos(),
-            0.05 * angle.sin()
-        ));
-    }
+    let mut obj = ring_of_vertices(pages, 0.0);
     obj.push('f');
     for i in 0..pages {
         obj.push_str(&format!(" {}", i + 1));
