@@ -44,8 +44,9 @@ impl WindingCost {
         let (lo, hi) = exact.bounds();
         let size = hi - lo;
         let grid = (0..GRID_PROBES.pow(3)).map(|k| {
-            let fraction =
-                |i: usize| (((k / GRID_PROBES.pow(i as u32)) % GRID_PROBES) as f64 + 0.5) / 4.0;
+            let fraction = |i: usize| {
+                (((k / GRID_PROBES.pow(i as u32)) % GRID_PROBES) as f64 + 0.5) / GRID_PROBES as f64
+            };
             lo + size.component_mul(&nalgebra::Vector3::from_fn(|i, _| fraction(i)))
         });
         let n = mesh.triangles.len();
