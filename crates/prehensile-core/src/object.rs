@@ -206,11 +206,15 @@ impl ObjectModel {
             if report.size.contains(&0.0) {
                 return Err(ObjectError::NoInside { why });
             }
-            // Zero-area triangles, dropped above, change no crossing count; the fan is over the
-            // boundary the winding tree sees, without them.
-            let fan = BoundaryFan::new(&mesh);
             // Closed parts that overlap keep the distance grids; holes leave the exact path.
             let whole = mesh.unbalanced_edges().is_empty();
+            // Zero-area triangles, dropped above, change no crossing count; the fan is over the
+            // boundary the winding tree sees, without them (none when every edge is balanced).
+            let fan = if whole {
+                Some(BoundaryFan::default())
+            } else {
+                BoundaryFan::new(&mesh)
+            };
             let exact = if whole {
                 exact.into_whole_winding_numbers()
             } else {
