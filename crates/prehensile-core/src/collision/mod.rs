@@ -16,6 +16,7 @@ mod boundary_fan;
 mod capsule_contact;
 mod fast_winding_number;
 mod inside_volume;
+mod node_slab;
 mod signed_distance_grid;
 mod triangle_bvh;
 mod winding_cost;

@@ -7,6 +7,8 @@
 //! Written by hand rather than with parry3d's BVH so that the leaf tests are our checked kernels
 //! and the traversal uses a fixed stack: queries take `&self` and never allocate.
 
+use rayon::prelude::*;
+
 use crate::edge_groups::EdgeGroups;
 use crate::geometry::{
     closest_point_on_triangle, closest_segment_triangle, distance_squared_segment_triangle,
@@ -16,6 +18,7 @@ use crate::math::{Point3, Vec3};
 use crate::mesh::TriangleMesh;
 
 use super::fast_winding_number::{triangle_solid_angle, TreeNode, WindingNumberTree};
+use super::node_slab::{area_normal, Slab, SLAB_MOST_TRIANGLES};
 
 /// A point on the surface with its outward pseudo-normal.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -87,6 +90,8 @@ pub struct TriangleBvh {
     edge_normals: Vec<[Vec3; 3]>,
     vertex_normals: Vec<[Vec3; 3]>,
     nodes: Vec<Node>,
+    /// Each node's slab ([`Slab`]), tightening its box's distance bounds.
+    slabs: Vec<Slab>,
     /// Present when the inside is given by winding numbers instead of pseudo-normals.
     winding: Option<WindingNumberTree>,
     /// The winding number is a whole number off the surface (every edge balanced), so the
@@ -122,6 +127,7 @@ impl TriangleBvh {
                 || gathered_geometry(mesh, &order),
                 || normals.gathered(mesh, &order),
             );
+        let slabs = node_slabs(&nodes, &corners);
         Self {
             corners,
             spheres,
@@ -130,6 +136,7 @@ impl TriangleBvh {
             edge_normals,
             vertex_normals,
             nodes,
+            slabs,
             winding: None,
             whole_winding: false,
         }
@@ -360,7 +367,7 @@ impl TriangleBvh {
         while top > 0 {
             top -= 1;
             let node = self.nodes[stack[top] as usize];
-            if !segment.meets_node(&node, best) {
+            if self.segment_nearness(&segment, stack[top], best).is_none() {
                 continue;
             }
             if node.count > 0 {
@@ -437,7 +444,7 @@ impl TriangleBvh {
     /// surface). Does not detect a capsule wholly inside; see [`TriangleBvh::capsule_touches`].
     pub fn segment_within(&self, a: &Point3, b: &Point3, radius: f64) -> bool {
         let segment = QuerySegment::new(a, b);
-        if segment.node_nearness(&self.nodes[0], radius).is_none() {
+        if self.segment_nearness(&segment, 0, radius).is_none() {
             return false;
         }
         let mut stack = [0u32; STACK];
@@ -467,8 +474,8 @@ impl TriangleBvh {
             // The children the capsule may meet, the one whose centre is nearer the segment
             // visited first: a capsule that touches is proven sooner.
             let (left, right) = (node.first, node.first + 1);
-            let near_left = segment.node_nearness(&self.nodes[left as usize], radius);
-            let near_right = segment.node_nearness(&self.nodes[right as usize], radius);
+            let near_left = self.segment_nearness(&segment, left, radius);
+            let near_right = self.segment_nearness(&segment, right, radius);
             match (near_left, near_right) {
                 (Some(l), Some(r)) => {
                     let (first, second) = if l <= r { (left, right) } else { (right, left) };
@@ -488,6 +495,25 @@ impl TriangleBvh {
             }
         }
         false
+    }
+
+    /// The squared distance from the segment to node `index`'s centre when the capsule of
+    /// radius `r` around it may meet the node's triangles, `None` when it cannot. It must meet
+    /// the node's box grown by `r` on every side ([`QuerySegment::meets_box`]), come within `r`
+    /// of the node's slab ([`Slab`]) and within `r` of the sphere through the box's corners:
+    /// on a fine mesh a finger's capsule is many times a leaf's size, and the grown box's
+    /// corners, which the sphere cuts off, hold most of the leaves the box test alone lets
+    /// through (on a 15k-triangle can, 60% of the node visits).
+    #[inline]
+    fn segment_nearness(&self, segment: &QuerySegment, index: u32, r: f64) -> Option<f64> {
+        let node = &self.nodes[index as usize];
+        if !segment.meets_box(&node.min, &node.max, r) {
+            return None;
+        }
+        let reach = r + node.reach;
+        let d2 = segment.distance_squared_to(&nalgebra::center(&node.min, &node.max));
+        (d2 <= reach * reach && self.slabs[index as usize].segment_gap(&segment.a, &segment.b) <= r)
+            .then_some(d2)
     }
 
     /// Exact distance from segment `a–b` to the surface (zero if it crosses the surface).
@@ -684,6 +710,35 @@ fn build(
     }
 }
 
+/// Each node's [`Slab`] around its triangles (`corners` in leaf order, so a node's triangles are
+/// one run of them); [`Slab::EVERYWHERE`] above [`SLAB_MOST_TRIANGLES`].
+fn node_slabs(nodes: &[Node], corners: &[[Point3; 3]]) -> Vec<Slab> {
+    // Children come after their parent: runs and normal sums fill from the leaves up.
+    let mut runs = vec![(0..0, Vec3::zeros()); nodes.len()];
+    for (index, node) in nodes.iter().enumerate().rev() {
+        runs[index] = if node.count > 0 {
+            let run = node.first as usize..(node.first + node.count) as usize;
+            let sum = corners[run.clone()].iter().map(area_normal).sum();
+            (run, sum)
+        } else {
+            let (left, right) = (&runs[node.first as usize], &runs[node.first as usize + 1]);
+            (
+                left.0.start.min(right.0.start)..left.0.end.max(right.0.end),
+                left.1 + right.1,
+            )
+        };
+    }
+    runs.into_par_iter()
+        .map(|(run, sum)| {
+            if run.len() <= SLAB_MOST_TRIANGLES {
+                Slab::around(sum, &corners[run])
+            } else {
+                Slab::EVERYWHERE
+            }
+        })
+        .collect()
+}
+
 /// The tree over `items` (their boxes `(bounds, centres)`) at `depth`, its root at index 0 and
 /// its inner nodes' child indices its own.
 fn subtree(
@@ -859,6 +914,7 @@ fn box_distance_squared(node: &Node, p: &Point3) -> f64 {
 /// otherwise compute again: its direction, the direction's reciprocals and its squared length's.
 struct QuerySegment {
     a: Point3,
+    b: Point3,
     direction: Vec3,
     /// 1 / direction, per axis; `None` along an axis the segment does not move along.
     reciprocal: [Option<f64>; 3],
@@ -872,6 +928,7 @@ impl QuerySegment {
         let length_squared = direction.norm_squared();
         Self {
             a: *a,
+            b: *b,
             direction,
             reciprocal: std::array::from_fn(|i| {
                 (direction[i].abs() >= 1e-300).then(|| 1.0 / direction[i])
@@ -890,28 +947,6 @@ impl QuerySegment {
         let t =
             ((p - self.a).dot(&self.direction) * self.reciprocal_length_squared).clamp(0.0, 1.0);
         (self.a + self.direction * t - p).norm_squared()
-    }
-
-    /// May the capsule of radius `r` around the segment meet the node's triangles? It must meet
-    /// the node's box grown by `r` on every side ([`Self::meets_box`]) and come within `r` of
-    /// the sphere through the box's corners: on a fine mesh a finger's capsule is many times a
-    /// leaf's size, and the grown box's corners, which the sphere cuts off, hold most of the
-    /// leaves the box test alone lets through (on a 15k-triangle can, 60% of the node visits).
-    #[inline]
-    fn meets_node(&self, node: &Node, r: f64) -> bool {
-        self.node_nearness(node, r).is_some()
-    }
-
-    /// The squared distance from the segment to the node's centre when the capsule of radius
-    /// `r` may meet the node's triangles ([`Self::meets_node`]), `None` when it cannot.
-    #[inline]
-    fn node_nearness(&self, node: &Node, r: f64) -> Option<f64> {
-        let reach = r + node.reach;
-        if !self.meets_box(&node.min, &node.max, r) {
-            return None;
-        }
-        let d2 = self.distance_squared_to(&nalgebra::center(&node.min, &node.max));
-        (d2 <= reach * reach).then_some(d2)
     }
 
     /// Does the segment meet the box grown by `r` on every side? (slab test; a superset of "the
@@ -1105,6 +1140,78 @@ mod tests {
             }
         }
         assert!(touching > 100, "{touching} touching");
+    }
+
+    /// Every node's slab holds all the corners of its triangles, and on a fine torus the
+    /// leaves' slabs are thin beside their boxes (what makes them prune).
+    #[test]
+    fn each_node_slab_holds_its_triangles_and_a_fine_mesh_leaf_slab_is_thin() {
+        let mesh = crate::shapes::torus(0.045, 0.014, 128, 64);
+        let bvh = TriangleBvh::new(&mesh);
+        // Each node's run of triangles, from its leaves (walked left before right).
+        fn run(bvh: &TriangleBvh, index: usize) -> std::ops::Range<usize> {
+            let node = bvh.nodes[index];
+            if node.count > 0 {
+                node.first as usize..(node.first + node.count) as usize
+            } else {
+                let first = node.first as usize;
+                run(bvh, first).start..run(bvh, first + 1).end
+            }
+        }
+        let (mut thin_leaves, mut leaves) = (0, 0);
+        for (index, node) in bvh.nodes.iter().enumerate() {
+            let slab = &bvh.slabs[index];
+            let corners = &bvh.corners[run(&bvh, index)];
+            if corners.len() > SLAB_MOST_TRIANGLES {
+                assert!(
+                    slab.segment_gap(&Point3::origin(), &Point3::origin()) == f64::NEG_INFINITY
+                );
+                continue;
+            }
+            for p in corners.iter().flatten() {
+                assert!(
+                    slab.segment_gap(p, p) <= 0.0,
+                    "node {index}: a corner outside"
+                );
+            }
+            if node.count > 0 {
+                leaves += 1;
+                // The slab's thickness: how far apart its two planes are.
+                let centre = nalgebra::center(&node.min, &node.max);
+                let thickness = -slab.segment_gap(&centre, &centre) * 2.0;
+                thin_leaves += usize::from(thickness < 0.2 * 2.0 * node.reach);
+            }
+        }
+        assert!(
+            thin_leaves * 10 > leaves * 9,
+            "{thin_leaves} of {leaves} leaves thin"
+        );
+    }
+
+    /// Capsules lying along a fine mesh just clear of it or just touching, where the slabs end
+    /// most visits: the capsule test agrees with every triangle.
+    #[test]
+    fn capsules_along_a_fine_mesh_agree_with_every_triangle() {
+        let mesh = crate::shapes::torus(0.045, 0.014, 128, 64);
+        let bvh = TriangleBvh::new(&mesh);
+        let mut touching = 0;
+        for k in 0..200 {
+            let t = k * 97 % mesh.triangles.len();
+            let [a, b, c] = mesh.corners(t);
+            let normal = (b - a).cross(&(c - a)).normalize();
+            let along = (b - a).normalize();
+            let radius = 0.006 + 0.00002 * (k % 100) as f64;
+            let on_surface = Point3::from((a.coords + b.coords + c.coords) / 3.0);
+            let p = on_surface + normal * (radius + 0.0005) - along * 0.01;
+            let q = p + along * 0.02;
+            let d = bvh.segment_distance(&p, &q);
+            for r in [0.999 * d, 1.001 * d + 1e-12, radius] {
+                let within = bvh.segment_within(&p, &q, r);
+                assert_eq!(within, d <= r, "radius {r}, distance {d}");
+                touching += usize::from(within);
+            }
+        }
+        assert!(touching > 200, "{touching} touching");
     }
 
     /// Nor may the capsule test: a capsule 0.1 from the collapsed triangle's line but 2 from the
