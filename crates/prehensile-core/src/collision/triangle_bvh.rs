@@ -967,8 +967,15 @@ impl QuerySegment {
                     if ta > tb {
                         std::mem::swap(&mut ta, &mut tb);
                     }
-                    t0 = t0.max(ta);
-                    t1 = t1.min(tb);
+                    // Plain comparisons, not `f64::max`/`min`, which also order NaNs: this runs
+                    // on every node a capsule test visits. A NaN (a NaN capsule or box) leaves
+                    // the interval as it was, and such a box is still met.
+                    if ta > t0 {
+                        t0 = ta;
+                    }
+                    if tb < t1 {
+                        t1 = tb;
+                    }
                     if t0 > t1 {
                         return false;
                     }
