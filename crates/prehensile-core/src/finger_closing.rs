@@ -189,6 +189,7 @@ fn close_together(
                         chain.clone(),
                         finger_end,
                         [previous, f],
+                        Some(b),
                         tolerance,
                         ws,
                     );
@@ -269,6 +270,7 @@ fn stop_coupled_followers(
                     chain,
                     finger_end,
                     [at_follower, at_leader],
+                    None,
                     t,
                     ws,
                 ),
@@ -359,7 +361,9 @@ fn group_touches(
 /// Bisects the chain `group` between a free fraction and a touching one (`bracket`) until no
 /// capsule of the finger from the group down moves more than `tolerance` between the two, and
 /// leaves it at the free end. Motions are rotations about joints, so capsule ends bound every
-/// point; the finger below the group is carried along and must stay free too.
+/// point; the finger below the group is carried along and must stay free too. `touching_at_hi`
+/// is a bone of the group known to touch at the touching end as the group poses it, if any:
+/// it is not asked again.
 #[allow(clippy::too_many_arguments)]
 fn refine_contact(
     hand: &HandModel,
@@ -368,13 +372,16 @@ fn refine_contact(
     group: Range<usize>,
     finger_end: usize,
     bracket: [f64; 2],
+    touching_at_hi: Option<usize>,
     tolerance: f64,
     ws: &mut Workspace,
 ) {
     let [mut lo, mut hi] = bracket;
-    // The bone found touching at `hi` last; the group's last bone (the one that stopped it)
-    // to begin with.
-    let mut blocking = group.end - 1;
+    // The bone asked first at each midpoint: the one found touching at `hi` last, or the
+    // group's last bone (the one that stopped it) to begin with. `blocking_touches` says that
+    // it was found touching at `hi`.
+    let mut blocking = touching_at_hi.unwrap_or(group.end - 1);
+    let mut blocking_touches = touching_at_hi.is_some();
     let first = hand.capsule_range(group.start).start;
     let last = hand.capsule_range(finger_end - 1).end;
     // The capsule ends at `lo` in `ws.capsules` and at `hi` in `ws.capsules_touching`: each
@@ -412,6 +419,7 @@ fn refine_contact(
             Some(k) => {
                 hi = mid;
                 blocking = k;
+                blocking_touches = true;
                 write_capsule_ends(hand, &ws.world, first..last, &mut ws.capsules_touching);
             }
             None => {
@@ -423,7 +431,7 @@ fn refine_contact(
     // The bones touching at the touching end are the contacts, within `tolerance` at `lo`.
     set_group(hand, movement, group.clone(), hi, finger_end, ws);
     for k in group.start..finger_end {
-        if bone_touches(hand, object, k, ws) {
+        if (blocking_touches && k == blocking) || bone_touches(hand, object, k, ws) {
             ws.touching[k] = true;
         }
     }
