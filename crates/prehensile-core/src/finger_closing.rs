@@ -75,6 +75,7 @@ pub fn close_fingers_while(
 ) -> Option<ClosingOutcome> {
     let bones = hand.bones();
     let mut outcome = ClosingOutcome::default();
+    ws.free_pose.fill(None);
     for b in 0..bones.len() {
         ws.rotations[b] = movement.rotation_at(b, 0.0);
         ws.fraction[b] = 0.0;
@@ -334,18 +335,26 @@ fn set_group(
     }
 }
 
-/// Does any capsule of bone `b` touch the object in the current pose?
+/// Does any capsule of bone `b` touch the object in the current pose? A pose the bone was
+/// found free in before, in this closing, is free without a query.
 #[inline]
 fn bone_touches(hand: &HandModel, object: &ObjectModel, b: usize, ws: &mut Workspace) -> bool {
     let world = ws.world[b];
-    hand.bone_capsules(b).iter().any(|c| {
+    if ws.free_pose[b] == Some(world) {
+        return false;
+    }
+    let touches = hand.bone_capsules(b).iter().any(|c| {
         let capsule = Capsule {
             a: world * c.a,
             b: world * c.b,
             radius: c.radius,
         };
         object.capsule_touches(&capsule, &mut ws.counters)
-    })
+    });
+    if !touches {
+        ws.free_pose[b] = Some(world);
+    }
+    touches
 }
 
 /// Does any bone of `group` touch the object?

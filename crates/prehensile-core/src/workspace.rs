@@ -26,6 +26,10 @@ pub struct Workspace {
     /// World capsules at the touching end of a contact refinement's bracket (finger closing's
     /// scratch).
     pub capsules_touching: Vec<Capsule>,
+    /// Each bone's world transform when finger closing last found it free, if it has in this
+    /// closing: a bone posed there again is free without a query (the same pose gets the same
+    /// answer).
+    pub free_pose: Vec<Option<Transform>>,
     /// Collision query counts.
     pub counters: CollisionCounters,
     /// Contacts of the last stability evaluation.
@@ -52,6 +56,7 @@ impl Workspace {
             reached: vec![0; n],
             capsules: vec![zero; hand.capsules().len()],
             capsules_touching: vec![zero; hand.capsules().len()],
+            free_pose: vec![None; n],
             counters: CollisionCounters::default(),
             contacts: Vec::with_capacity(3 * hand.capsules().len()),
             wrench_space: GraspWrenchSpace::new(),

@@ -111,6 +111,37 @@ fn far_from_the_object_every_bone_reaches_the_end() {
     }
 }
 
+/// Finger closing remembers the poses it found free, within one closing only. A workspace
+/// that closed the hand on the sphere, its memory holding poses found free there, closes the
+/// hand at the same root on slightly larger spheres exactly as a fresh one does: bisections of
+/// the same interpolation steps pose the bones at the same fractions, where the larger sphere
+/// may already touch.
+#[test]
+fn a_closing_forgets_the_free_poses_of_closings_before() {
+    let hand = common::hand("human");
+    let sphere = common::object("sphere");
+    let movement = hand.movement("power").unwrap();
+    let params = ClosingParams::default();
+    let mut ws = Workspace::new(&hand);
+    let root = common::free_root(&hand, &sphere, "power", &mut ws);
+    let centre = sphere.center_of_mass();
+    for growth in [1.0005, 1.001, 1.002, 1.004] {
+        let mut mesh = prehensile_core::shapes::builtin_object("sphere").unwrap();
+        for v in &mut mesh.vertices {
+            *v = centre + (*v - centre) * growth;
+        }
+        let larger = ObjectModel::new("larger sphere", mesh, None).unwrap();
+        let mut fresh = Workspace::new(&hand);
+        let expected = close_fingers(&hand, &larger, movement, &root, &params, &mut fresh);
+        let mut reused = Workspace::new(&hand);
+        close_fingers(&hand, &sphere, movement, &root, &params, &mut reused);
+        let again = close_fingers(&hand, &larger, movement, &root, &params, &mut reused);
+        assert_eq!(again, expected, "grown by {growth}");
+        assert_eq!(reused.fraction, fresh.fraction, "grown by {growth}");
+        assert_eq!(reused.touching, fresh.touching, "grown by {growth}");
+    }
+}
+
 #[test]
 fn a_touching_bone_stops_its_predecessors() {
     for hand_name in ["human", "robot3", "cartoon4"] {
