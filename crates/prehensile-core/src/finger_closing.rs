@@ -76,6 +76,7 @@ pub fn close_fingers_while(
     let bones = hand.bones();
     let mut outcome = ClosingOutcome::default();
     ws.free_pose.fill(None);
+    ws.touching_pose.fill(None);
     for b in 0..bones.len() {
         ws.rotations[b] = movement.rotation_at(b, 0.0);
         ws.fraction[b] = 0.0;
@@ -190,7 +191,6 @@ fn close_together(
                         chain.clone(),
                         finger_end,
                         [previous, f],
-                        Some(b),
                         tolerance,
                         ws,
                     );
@@ -271,7 +271,6 @@ fn stop_coupled_followers(
                     chain,
                     finger_end,
                     [at_follower, at_leader],
-                    None,
                     t,
                     ws,
                 ),
@@ -335,13 +334,18 @@ fn set_group(
     }
 }
 
-/// Does any capsule of bone `b` touch the object in the current pose? A pose the bone was
-/// found free in before, in this closing, is free without a query.
+/// Does any capsule of bone `b` touch the object in the current pose? The last pose the bone
+/// was found free in, and the last it was found touching in, in this closing, are answered
+/// without a query: closing asks again at the previous fraction before each contact
+/// refinement, and at the bracket's touching end after it.
 #[inline]
 fn bone_touches(hand: &HandModel, object: &ObjectModel, b: usize, ws: &mut Workspace) -> bool {
     let world = ws.world[b];
     if ws.free_pose[b] == Some(world) {
         return false;
+    }
+    if ws.touching_pose[b] == Some(world) {
+        return true;
     }
     let touches = hand.bone_capsules(b).iter().any(|c| {
         let capsule = Capsule {
@@ -351,7 +355,9 @@ fn bone_touches(hand: &HandModel, object: &ObjectModel, b: usize, ws: &mut Works
         };
         object.capsule_touches(&capsule, &mut ws.counters)
     });
-    if !touches {
+    if touches {
+        ws.touching_pose[b] = Some(world);
+    } else {
         ws.free_pose[b] = Some(world);
     }
     touches
@@ -370,9 +376,7 @@ fn group_touches(
 /// Bisects the chain `group` between a free fraction and a touching one (`bracket`) until no
 /// capsule of the finger from the group down moves more than `tolerance` between the two, and
 /// leaves it at the free end. Motions are rotations about joints, so capsule ends bound every
-/// point; the finger below the group is carried along and must stay free too. `touching_at_hi`
-/// is a bone of the group known to touch at the touching end as the group poses it, if any:
-/// it is not asked again.
+/// point; the finger below the group is carried along and must stay free too.
 #[allow(clippy::too_many_arguments)]
 fn refine_contact(
     hand: &HandModel,
@@ -381,16 +385,13 @@ fn refine_contact(
     group: Range<usize>,
     finger_end: usize,
     bracket: [f64; 2],
-    touching_at_hi: Option<usize>,
     tolerance: f64,
     ws: &mut Workspace,
 ) {
     let [mut lo, mut hi] = bracket;
-    // The bone asked first at each midpoint: the one found touching at `hi` last, or the
-    // group's last bone (the one that stopped it) to begin with. `blocking_touches` says that
-    // it was found touching at `hi`.
-    let mut blocking = touching_at_hi.unwrap_or(group.end - 1);
-    let mut blocking_touches = touching_at_hi.is_some();
+    // The bone found touching at `hi` last; the group's last bone (the one that stopped it)
+    // to begin with.
+    let mut blocking = group.end - 1;
     let first = hand.capsule_range(group.start).start;
     let last = hand.capsule_range(finger_end - 1).end;
     // The capsule ends at `lo` in `ws.capsules` and at `hi` in `ws.capsules_touching`: each
@@ -428,7 +429,6 @@ fn refine_contact(
             Some(k) => {
                 hi = mid;
                 blocking = k;
-                blocking_touches = true;
                 write_capsule_ends(hand, &ws.world, first..last, &mut ws.capsules_touching);
             }
             None => {
@@ -440,7 +440,7 @@ fn refine_contact(
     // The bones touching at the touching end are the contacts, within `tolerance` at `lo`.
     set_group(hand, movement, group.clone(), hi, finger_end, ws);
     for k in group.start..finger_end {
-        if (blocking_touches && k == blocking) || bone_touches(hand, object, k, ws) {
+        if bone_touches(hand, object, k, ws) {
             ws.touching[k] = true;
         }
     }

@@ -30,6 +30,9 @@ pub struct Workspace {
     /// closing: a bone posed there again is free without a query (the same pose gets the same
     /// answer).
     pub free_pose: Vec<Option<Transform>>,
+    /// Each bone's world transform when finger closing last found it touching, if it has in
+    /// this closing: a bone posed there again touches without a query.
+    pub touching_pose: Vec<Option<Transform>>,
     /// Collision query counts.
     pub counters: CollisionCounters,
     /// Contacts of the last stability evaluation.
@@ -57,6 +60,7 @@ impl Workspace {
             capsules: vec![zero; hand.capsules().len()],
             capsules_touching: vec![zero; hand.capsules().len()],
             free_pose: vec![None; n],
+            touching_pose: vec![None; n],
             counters: CollisionCounters::default(),
             contacts: Vec::with_capacity(3 * hand.capsules().len()),
             wrench_space: GraspWrenchSpace::new(),

@@ -111,13 +111,12 @@ fn far_from_the_object_every_bone_reaches_the_end() {
     }
 }
 
-/// Finger closing remembers the poses it found free, within one closing only. A workspace
-/// that closed the hand on the sphere, its memory holding poses found free there, closes the
-/// hand at the same root on slightly larger spheres exactly as a fresh one does: bisections of
-/// the same interpolation steps pose the bones at the same fractions, where the larger sphere
-/// may already touch.
+/// Finger closing remembers the poses it found free and touching, within one closing only. A
+/// workspace that closed the hand on one sphere closes it at the same root on a slightly larger
+/// (or smaller) one exactly as a fresh one does: bisections of the same interpolation steps
+/// pose the bones at the same fractions, where the other sphere may answer otherwise.
 #[test]
-fn a_closing_forgets_the_free_poses_of_closings_before() {
+fn a_closing_forgets_the_poses_of_closings_before() {
     let hand = common::hand("human");
     let sphere = common::object("sphere");
     let movement = hand.movement("power").unwrap();
@@ -131,14 +130,21 @@ fn a_closing_forgets_the_free_poses_of_closings_before() {
             *v = centre + (*v - centre) * growth;
         }
         let larger = ObjectModel::new("larger sphere", mesh, None).unwrap();
-        let mut fresh = Workspace::new(&hand);
-        let expected = close_fingers(&hand, &larger, movement, &root, &params, &mut fresh);
-        let mut reused = Workspace::new(&hand);
-        close_fingers(&hand, &sphere, movement, &root, &params, &mut reused);
-        let again = close_fingers(&hand, &larger, movement, &root, &params, &mut reused);
-        assert_eq!(again, expected, "grown by {growth}");
-        assert_eq!(reused.fraction, fresh.fraction, "grown by {growth}");
-        assert_eq!(reused.touching, fresh.touching, "grown by {growth}");
+        for (before, after) in [(&sphere, &larger), (&larger, &sphere)] {
+            let mut fresh = Workspace::new(&hand);
+            let expected = close_fingers(&hand, after, movement, &root, &params, &mut fresh);
+            let mut reused = Workspace::new(&hand);
+            close_fingers(&hand, before, movement, &root, &params, &mut reused);
+            let again = close_fingers(&hand, after, movement, &root, &params, &mut reused);
+            let case = format!(
+                "grown by {growth}, {} after {}",
+                after.name(),
+                before.name()
+            );
+            assert_eq!(again, expected, "{case}");
+            assert_eq!(reused.fraction, fresh.fraction, "{case}");
+            assert_eq!(reused.touching, fresh.touching, "{case}");
+        }
     }
 }
 
