@@ -506,14 +506,17 @@ impl TriangleBvh {
     /// through (on a 15k-triangle can, 60% of the node visits).
     #[inline]
     fn segment_nearness(&self, segment: &QuerySegment, index: u32, r: f64) -> Option<f64> {
+        // The sphere first: the walk needs its distance to order the children anyway, and it
+        // turns away more nodes than the box for its cost (1% fewer instructions in a 16k
+        // grasp than box, sphere, slab).
         let node = &self.nodes[index as usize];
-        if !segment.meets_box(&node.min, &node.max, r) {
-            return None;
-        }
         let reach = r + node.reach;
         let d2 = segment.distance_squared_to(&nalgebra::center(&node.min, &node.max));
-        (d2 <= reach * reach && self.slabs[index as usize].segment_gap(&segment.a, &segment.b) <= r)
-            .then_some(d2)
+        let near_sphere = d2 <= reach * reach;
+        if !near_sphere || !segment.meets_box(&node.min, &node.max, r) {
+            return None;
+        }
+        (self.slabs[index as usize].segment_gap(&segment.a, &segment.b) <= r).then_some(d2)
     }
 
     /// Exact distance from segment `a–b` to the surface (zero if it crosses the surface).
