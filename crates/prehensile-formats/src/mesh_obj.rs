@@ -17,9 +17,10 @@ const PIECE_BYTES: usize = 256 * 1024;
 ///
 /// A large file is cut into pieces at line ends, read side by side. A piece after the first
 /// does not know how many vertices come before it until the pieces before it are read, so it
-/// checks its faces' indices afterwards (see [`Piece::reach_past_own`]). A piece whose check
-/// fails, or that met a bad line, is read again knowing how many come before it: that finds
-/// the first bad line, and says what is wrong with it, as one pass over the whole file would.
+/// checks its faces' indices afterwards: it keeps the most by which an index runs past the
+/// vertices it has read itself. A piece whose check fails, or that met a bad line or a relative
+/// index, is read again knowing how many come before it: that finds the first bad line, and
+/// says what is wrong with it, as one pass over the whole file would.
 pub fn parse_obj(
     text: &str,
     source_name: &str,
