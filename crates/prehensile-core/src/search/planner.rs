@@ -6,7 +6,6 @@
 
 use std::time::Duration;
 
-use rayon::prelude::*;
 // `std::time::Instant` panics in the browser (wasm32); web-time is the same API on every target.
 use web_time::Instant;
 
@@ -829,23 +828,33 @@ impl<'a> GraspPlanner<'a> {
             }
             return;
         }
-        // Each workspace on rayon's pool (its threads live between steps instead of being
-        // started for each) takes the next candidate nobody has taken yet: candidates differ in
+        // Each workspace takes the next candidate nobody has taken yet: candidates differ in
         // cost several times over, and fixed shares left one thread waiting for the other.
-        // Results land by index, so the outcome does not depend on the thread count.
+        // This thread starts at once with the first workspace; the others go to rayon's pool
+        // (its threads live between steps instead of being started for each), whose sleeping
+        // threads take 40–300 µs to wake on a virtual machine: handing it the whole step made
+        // every step wait that long before its first candidate. Results land by index, so the
+        // outcome does not depend on the thread count.
         let work = std::sync::Mutex::new(results.iter_mut().zip(candidates).zip(capsules));
-        self.workspaces[..threads]
-            .par_iter_mut()
-            .for_each(|ws| loop {
-                let next = work
-                    .lock()
-                    .unwrap_or_else(std::sync::PoisonError::into_inner)
-                    .next();
-                let Some(((slot, r), c)) = next else {
-                    break;
-                };
-                *slot = Some(evaluate(r, ws, c));
-            });
+        let take_and_evaluate = |ws: &mut Workspace| loop {
+            let next = work
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+                .next();
+            let Some(((slot, r), c)) = next else {
+                break;
+            };
+            *slot = Some(evaluate(r, ws, c));
+        };
+        let (here, helpers) = self.workspaces[..threads]
+            .split_first_mut()
+            .expect("at least two workspaces");
+        rayon::in_place_scope(|scope| {
+            for ws in helpers {
+                scope.spawn(|_| take_and_evaluate(ws));
+            }
+            take_and_evaluate(here);
+        });
     }
 
     /// Steps until the time budget is spent or the search stops.
