@@ -85,8 +85,9 @@ impl CliError {
 /// glibc's allocator set for a run that builds tens of megabytes of object and then searches:
 /// big blocks from the heap instead of fresh mappings each, kept when freed, and one arena for
 /// every thread. A fresh 16k-triangle grasp then takes about 2,630 page faults instead of 3,660
-/// (each costs microseconds in a virtual machine) and 3–5 ms less wall time (docs/PERFORMANCE.md,
-/// session 45). Set through glibc's own `mallopt`, which only the C library offers.
+/// (each costs microseconds in a virtual machine) and about 2 ms less wall time
+/// (docs/PERFORMANCE.md, session 45). Set through glibc's own `mallopt`, which only the C
+/// library offers.
 #[cfg(all(target_os = "linux", target_env = "gnu"))]
 fn tune_allocator() {
     // Large enough for a million-triangle object's biggest arrays.

@@ -832,9 +832,9 @@ impl<'a> GraspPlanner<'a> {
         // cost several times over, and fixed shares left one thread waiting for the other.
         // This thread starts at once with the first workspace; the others go to rayon's pool
         // (its threads live between steps instead of being started for each), whose sleeping
-        // threads take 40–300 µs to wake on a virtual machine: handing it the whole step made
-        // every step wait that long before its first candidate. Results land by index, so the
-        // outcome does not depend on the thread count.
+        // threads took up to half a millisecond to wake on a virtual machine: handing it the
+        // whole step made every step wait for one before its first candidate. Results land by
+        // index, so the outcome does not depend on the thread count.
         let work = std::sync::Mutex::new(results.iter_mut().zip(candidates).zip(capsules));
         let take_and_evaluate = |ws: &mut Workspace| loop {
             let next = work
