@@ -314,6 +314,27 @@ mod tests {
     }
 
     #[test]
+    fn a_large_file_names_a_bad_line_far_into_it() {
+        // Over 1 MB: read in pieces wherever the pool has two threads or more.
+        let mut text = String::new();
+        for k in 0..30_000 {
+            text.push_str(&format!("v {k} {k}.25 -{k}.5\n"));
+        }
+        for k in 1..29_998 {
+            text.push_str(&format!("f {k} {} {}\n", k + 1, k + 2));
+        }
+        let (v, t) = parse_obj(&text, "big.obj").unwrap();
+        assert_eq!(
+            (v.len(), t.len(), t[29_996]),
+            (30_000, 29_997, [29_996, 29_997, 29_998])
+        );
+        let late = format!("{text}f -1 -2 -3\nf 1 2 30001\n");
+        let e = parse_obj(&late, "big.obj").unwrap_err();
+        assert_eq!(e.location.as_deref(), Some("line 59999"), "{e}");
+        assert!(e.reason.contains("vertex 30001"), "{e}");
+    }
+
+    #[test]
     fn out_of_range_index_names_the_line() {
         let e = parse_obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n", "bad.obj").unwrap_err();
         assert_eq!(e.location.as_deref(), Some("line 4"));
