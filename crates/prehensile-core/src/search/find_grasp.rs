@@ -246,11 +246,12 @@ fn search_in_turn<'a>(
 /// a valid grasp can win, or every one when none did. As within one search, a valid grasp that
 /// pushes from every side beats a one-sided wrap whatever their ε
 /// (`EvaluationContext::rank`); then [`better_grasp`]'s order decides, the first movement
-/// winning ties. A result's contacts and 6-D wrench-space hull are the dearest part of it (a
-/// few milliseconds each on a scan), so the contenders are compared on their ε alone, from the
-/// part of the hull that decides it ([`EvaluationContext::epsilon`]), and only the winner's
-/// whole result is built. With `threads` above 1 the contenders are judged side by side on
-/// rayon's pool; each judgement is the same on any thread.
+/// winning ties. A result's 6-D wrench-space hull is the dearest part of it (a few
+/// milliseconds on a scan), so the contenders are compared on their ε alone, from the part of
+/// the hull that decides it ([`EvaluationContext::epsilon`]), and only the winner's whole
+/// result is built, from the pose and contacts its judgement left in its workspace. With
+/// `threads` above 1 the contenders are judged side by side on rayon's pool; each judgement is
+/// the same on any thread.
 fn best_result(hand: &HandModel, planners: &[GraspPlanner], threads: usize) -> GraspResult {
     let any_valid = planners.iter().any(|p| p.best().is_some());
     let can_win: Vec<&GraspPlanner> = planners
@@ -260,30 +261,34 @@ fn best_result(hand: &HandModel, planners: &[GraspPlanner], threads: usize) -> G
     if let [only] = can_win[..] {
         return result(hand, only);
     }
-    // (valid, pushes from every side, ε, −gDist): `better_grasp`'s order after the ranking.
+    // (valid, pushes from every side, ε, −gDist): `better_grasp`'s order after the ranking,
+    // with the pose re-created and its contacts found.
     let judge = |p: &&GraspPlanner| {
         let (chosen, ctx) = p.chosen();
         let mut ws = Workspace::new(hand);
-        ctx.evaluate_pose(&chosen.rotation, &mut ws);
-        (
+        let again = ctx.evaluate_pose(&chosen.rotation, &mut ws);
+        let key = (
             p.best().is_some(),
             p.best().is_some_and(|b| ctx.pushes_from_every_side(b)),
             ctx.epsilon(&mut ws),
             -chosen.terms.gdist,
-        )
+        );
+        (key, again, ws)
     };
-    let keys: Vec<_> = if threads > 1 {
+    let mut judged: Vec<_> = if threads > 1 {
         can_win.par_iter().map(judge).collect()
     } else {
         can_win.iter().map(judge).collect()
     };
     let mut winner = 0;
-    for (k, key) in keys.iter().enumerate() {
-        if *key > keys[winner] {
+    for (k, (key, ..)) in judged.iter().enumerate() {
+        if *key > judged[winner].0 {
             winner = k;
         }
     }
-    result(hand, can_win[winner])
+    let (_, again, mut ws) = judged.swap_remove(winner);
+    let planner = can_win[winner];
+    GraspResult::from_found_contacts(planner, planner.chosen().1, again, &mut ws)
 }
 
 /// The progress of the searches running side by side, shared by their threads.

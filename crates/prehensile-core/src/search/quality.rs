@@ -740,6 +740,11 @@ impl EvaluationContext<'_> {
     /// Finds the contacts of the pose in `ws` and their stability (force closure, ε, loads).
     pub fn stability(&self, ws: &mut Workspace) -> Stability {
         self.find_contacts(ws);
+        self.stability_of_found_contacts(ws)
+    }
+
+    /// [`EvaluationContext::stability`] once the pose's contacts are in `ws.contacts`.
+    pub fn stability_of_found_contacts(&self, ws: &mut Workspace) -> Stability {
         ws.wrench_space.evaluate(
             &ws.contacts,
             &self.contact_model,

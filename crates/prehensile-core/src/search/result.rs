@@ -149,18 +149,27 @@ pub struct GraspResult {
 impl GraspResult {
     /// The planner's best valid pose, or its current pose (marked invalid) if it has none.
     pub fn from_planner(planner: &GraspPlanner, ws: &mut Workspace) -> Self {
-        let (again, ctx) = planner.chosen_pose(ws);
-        Self::from_pose(planner, ctx, &again, ws)
+        let (chosen, ctx) = planner.chosen();
+        let again = ctx.evaluate_pose(&chosen.rotation, ws);
+        ctx.find_contacts(ws);
+        Self::from_found_contacts(planner, ctx, again, ws)
     }
 
-    /// Builds the result for evaluation `e` in context `ctx` whose pose is in `ws`.
-    fn from_pose(
+    /// Builds the result for evaluation `e` (from [`EvaluationContext::evaluate_pose`], its
+    /// stability perhaps still to judge) in context `ctx`, whose pose is in `ws` with its
+    /// contacts found ([`EvaluationContext::find_contacts`]): the contacts that judge the pose
+    /// are those the result reports, found once. [`GraspPlanner::chosen`]'s pose, re-created
+    /// (evaluation is deterministic), gives the planner's own result.
+    pub(crate) fn from_found_contacts(
         planner: &GraspPlanner,
         ctx: &EvaluationContext,
-        e: &Evaluation,
+        mut e: Evaluation,
         ws: &mut Workspace,
     ) -> Self {
-        let stability = ctx.stability(ws);
+        if ctx.stability_pending(&e) {
+            ctx.judge_found_contacts(&mut e, ws);
+        }
+        let stability = ctx.stability_of_found_contacts(ws);
         let normal_cone_degrees =
             narrowest_normal_cap(ws.contacts.iter().map(|c| c.normal)).to_degrees();
         let hand = ctx.hand;
