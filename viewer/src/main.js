@@ -12,7 +12,7 @@ import workerSource from '../build/search_worker.txt';
 
 const $ = (id) => document.getElementById(id);
 // sliceTimes: the worker's milliseconds per search slice since the last (re)start; frameTimes:
-// the page's own work per animation frame (applying the latest pose and drawing), which the
+// the page's own work per animation frame (drawing the newest pose and the scene), which the
 // search no longer adds to.
 // playback: a saved animation (`grasp --glb`, `simulate --glb`) playing instead of the search;
 // run: a simulation report (`simulate --out`) whose state-machine timeline labels it.
@@ -113,6 +113,7 @@ async function main() {
     $('note').textContent = '';
     stopPlayback();
     state.result = null;
+    undrawn = false;
     state.restarts = 0;
     state.sliceTimes = [];
     $('error').textContent = '';
@@ -141,7 +142,10 @@ async function main() {
   }
 
   // What the worker says: a session opened, a pose found, a slice done, a drag answered, an error.
-  let latest = null; // the newest result's JSON, drawn at the next animation frame
+  // The newest result is read as it comes, with its status, so that `state` never pairs a
+  // search that has stopped with the pose from before its last restart; it is drawn at the next
+  // animation frame.
+  let undrawn = false;
   worker.onmessage = ({ data: m }) => {
     if (m.type === 'opened') showOpened(m);
     else if (m.type === 'error') {
@@ -161,8 +165,13 @@ async function main() {
     } else if (m.type === 'result' || m.type === 'slice') {
       state.sliceTimes.push(m.sliceMs);
       if (m.type === 'result') {
+        try {
+          state.result = JSON.parse(m.json);
+          undrawn = true;
+        } catch (e) {
+          showError(e);
+        }
         state.status = m.status;
-        latest = m.json;
       }
     }
   };
@@ -311,15 +320,14 @@ async function main() {
     requestAnimationFrame(frame);
     const t0 = performance.now();
     if (opening) opening.frames += 1;
-    if (latest !== null) {
+    if (undrawn) {
+      undrawn = false;
       try {
-        state.result = JSON.parse(latest);
         drawResult(state.result);
         showInfo(state.result);
       } catch (e) {
         showError(e);
       }
-      latest = null;
     }
     if (state.playback) advancePlayback();
     orbit.update();
@@ -442,7 +450,7 @@ async function main() {
 
   // Shows a saved result as it was found, the search stopped.
   function showSaved(doc) {
-    latest = null;
+    undrawn = false;
     state.status = 'saved result';
     state.result = doc;
     drawResult(doc);
