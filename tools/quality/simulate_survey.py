@@ -6,7 +6,7 @@ grasp). Prints one line per hand, `object:H/slip_mm` (H held, - not), and the to
 
 Run from the repository root after `cargo build --release -p prehensile-cli`:
     python3 tools/quality/simulate_survey.py [--cli target/release/prehensile] [--candidates N]
-        [--engine rapier|reduced]
+        [--engine rapier|reduced] [--dt SECONDS]
 """
 import argparse
 import json
@@ -38,9 +38,11 @@ def main():
                         help="grasps per object checked before each run (default: the CLI's)")
     parser.add_argument("--engine", default="rapier", choices=["rapier", "reduced"],
                         help="the simulation's engine (prehensile simulate --engine)")
+    parser.add_argument("--dt", type=float, help="time step, seconds (default: the CLI's)")
     args = parser.parse_args()
     extra = [] if args.candidates is None else ["--candidates", str(args.candidates)]
     extra += ["--engine", args.engine]
+    extra += [] if args.dt is None else ["--dt", str(args.dt)]
     held = total = 0
     for hand in HANDS:
         cells = []

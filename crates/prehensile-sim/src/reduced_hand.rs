@@ -12,6 +12,7 @@ use prehensile_core::math::{Point3, Rotation, Transform, Vec3};
 use prehensile_core::HandModel;
 
 use crate::holding_wrench::FrameMotion;
+use crate::reduced_world::CONTACT_SLOTS;
 use crate::simulation::Contacts;
 use crate::SimError;
 
@@ -46,9 +47,10 @@ pub(crate) struct ReducedHand {
     /// Per degree of freedom, its joint's origin and axis in the world this step.
     pub(crate) axes: Vec<(Point3, Vec3)>,
     /// Per capsule, the contact fraction of the step before (the narrow phase's warm start)
-    /// and the impulses (normal, two tangents) of the step before (the solver's).
+    /// and the impulses (normal, two tangents) of each of its contacts the step before (the
+    /// solver's; see [`crate::reduced_world::ContactSlot`]).
     pub(crate) fractions: Vec<Option<f64>>,
-    pub(crate) impulses: Vec<[f64; 3]>,
+    pub(crate) impulses: Vec<[[f64; 3]; CONTACT_SLOTS]>,
     /// The generalized forces of this step and the velocity before contact.
     pub(crate) bias: Vec<f64>,
     pub(crate) force: Vec<f64>,
@@ -159,7 +161,7 @@ impl ReducedHand {
             frames: vec![Transform::identity(); bones.len()],
             axes: vec![(Point3::origin(), Vec3::zeros()); n],
             fractions: vec![None; capsules],
-            impulses: vec![[0.0; 3]; capsules],
+            impulses: vec![[[0.0; 3]; CONTACT_SLOTS]; capsules],
             bias: vec![0.0; n],
             force: vec![0.0; n],
             free: vec![0.0; n],

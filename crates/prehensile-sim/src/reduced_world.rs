@@ -9,7 +9,8 @@
 //! 1. the bones placed by forward kinematics, every joint axis in the world;
 //! 2. every capsule near the object gives a contact (normal, two tangents, point, gap) from the
 //!    object's distance grid ([`prehensile_core::collision::MeshCollider::capsule_contact`],
-//!    warm-started from the capsule's contact of the step before);
+//!    warm-started from the capsule's contact of the step before), and each of its ends that
+//!    touches too gives its own (a bone lying along a face);
 //! 3. the bias b(q, q̇) by Newton–Euler with the palm's real motion and gravity
 //!    ([`prehensile_control::rnea`]), the controller's compensation τG + τARM by Newton–Euler at
 //!    rest ([`prehensile_control::bias_torques`], the paper's Eq. 2; one pass of the velocity
@@ -21,8 +22,8 @@
 //! 5. the object's free velocity under gravity; the Delassus matrix of hand and object; the
 //!    impulses by projected Gauss–Seidel ([`crate::projected_gauss_seidel`]), warm-started from
 //!    each capsule's impulses of the step before, contacts speculative within a millimetre
-//!    (a gap may close in one step, no more), penetration pushed out by a fifth a step, normal
-//!    rows softened as MuJoCo's, sweeps stopping once the impulses settle;
+//!    (a gap may close in one step, no more), penetration pushed out over MuJoCo's 20 ms time
+//!    constant, normal rows softened as MuJoCo's, sweeps stopping once the impulses settle;
 //! 6. velocities updated, angles and the object integrated (semi-implicit Euler; a ball joint's
 //!    rotation composed with its turn).
 //!
@@ -53,8 +54,19 @@ const MARGIN: f64 = 0.001;
 /// a capsule near the object keeps its fraction from step to step, and its search starts
 /// there (one to three grid samples) instead of from five points along it.
 const FOLLOWED: f64 = 0.005;
-/// Share of a penetration pushed out per step.
-const BAUMGARTE: f64 = 0.2;
+/// Contacts a capsule may have with the object: its point nearest the object, and each end
+/// that touches too (a bone lying along a face or a cylinder's side, where one point would let
+/// the object pivot about it and its place wander along the bone from step to step; MuJoCo's
+/// capsule–plane and rapier's capsule–mesh contacts likewise keep two or more points).
+pub(crate) const CONTACT_SLOTS: usize = 3;
+/// An end gets its own contact only this far along the capsule (a share of its length) from
+/// the nearest point; nearer, the two would be one contact counted twice.
+const ENDS_APART: f64 = 0.25;
+/// A penetration is pushed out at its depth over this time (seconds), and at most half of it
+/// in one step: MuJoCo's default contact time constant (`solref` 0.02 s). A share per step (a
+/// fifth, before) made the push stiffer as the step shrank (a 1 ms time constant at dt 0.2 ms)
+/// and kicked a held object's contacts apart (docs/PERFORMANCE.md, session 47).
+const PUSH_OUT_TIME: f64 = 0.02;
 /// Contact compliance as a share of each normal row's Delassus diagonal: MuJoCo's default
 /// impedance (d = 0.95 at depth) gives (1 − d) / d ≈ 0.05.
 const SOFTNESS: f64 = 0.05;
@@ -136,6 +148,9 @@ struct CapsuleOf {
 struct ContactPoint {
     /// The side the normal leaves.
     from: CapsuleOf,
+    /// Which of the capsule's contacts with the object (0 the nearest point, 1 and 2 its ends;
+    /// always 0 between hands): where its warm start is kept.
+    slot: usize,
     /// The side it enters: another hand's capsule, or the object.
     into: Option<CapsuleOf>,
     point: Point3,
@@ -180,7 +195,7 @@ impl ReducedWorld {
             for (h, hand) in self.hands.iter_mut().enumerate() {
                 for (capsule, c) in hand.hand.capsules().iter().enumerate() {
                     if object.fixed && hand.movers[c.bone].is_empty() {
-                        hand.impulses[capsule] = [0.0; 3];
+                        hand.impulses[capsule] = [[0.0; 3]; CONTACT_SLOTS];
                         continue;
                     }
                     let frame = &hand.frames[c.bone];
@@ -189,27 +204,47 @@ impl ReducedWorld {
                         b: to_mesh * (frame * c.b),
                         radius: c.radius,
                     };
-                    let found = object.object.collider().capsule_contact(
-                        &local,
-                        FOLLOWED,
-                        hand.fractions[capsule],
-                    );
+                    let collider = object.object.collider();
+                    let found = collider.capsule_contact(&local, FOLLOWED, hand.fractions[capsule]);
                     hand.fractions[capsule] = found.map(|f| f.fraction);
-                    let Some(contact) = found.filter(|f| f.gap <= MARGIN) else {
-                        hand.impulses[capsule] = [0.0; 3];
+                    let Some(nearest) = found.filter(|f| f.gap <= MARGIN) else {
+                        hand.impulses[capsule] = [[0.0; 3]; CONTACT_SLOTS];
                         continue;
                     };
-                    points.push(ContactPoint {
-                        from: CapsuleOf {
-                            hand: h,
-                            capsule,
-                            bone: c.bone,
-                        },
-                        into: None,
-                        point: object.pose * contact.point,
-                        directions: contact_frame(-(object.pose.rotation * contact.normal)),
-                        gap: contact.gap,
-                    });
+                    let from = CapsuleOf {
+                        hand: h,
+                        capsule,
+                        bone: c.bone,
+                    };
+                    // An end sphere's own contact: the search from a warm start at the point
+                    // itself, on a segment of no length, samples it once.
+                    let end = |t: f64, p: Point3| {
+                        let apart = (t - nearest.fraction).abs() >= ENDS_APART;
+                        let sphere = Capsule {
+                            a: p,
+                            b: p,
+                            radius: c.radius,
+                        };
+                        apart
+                            .then(|| collider.capsule_contact(&sphere, MARGIN, Some(0.0)))
+                            .flatten()
+                            .filter(|f| f.gap <= MARGIN)
+                    };
+                    let found = [Some(nearest), end(0.0, local.a), end(1.0, local.b)];
+                    for (slot, contact) in found.into_iter().enumerate() {
+                        let Some(contact) = contact else {
+                            hand.impulses[capsule][slot] = [0.0; 3];
+                            continue;
+                        };
+                        points.push(ContactPoint {
+                            from,
+                            slot,
+                            into: None,
+                            point: object.pose * contact.point,
+                            directions: contact_frame(-(object.pose.rotation * contact.normal)),
+                            gap: contact.gap,
+                        });
+                    }
                 }
             }
         }
@@ -247,6 +282,7 @@ impl ReducedWorld {
                                 capsule: i,
                                 bone: ci.bone,
                             },
+                            slot: 0,
                             into: Some(CapsuleOf {
                                 hand: b,
                                 capsule: j,
@@ -284,7 +320,7 @@ impl ReducedWorld {
         };
         for (c, p) in ws.points.iter().enumerate() {
             let warm = match p.into {
-                None => self.hands[p.from.hand].impulses[p.from.capsule],
+                None => self.hands[p.from.hand].impulses[p.from.capsule][p.slot],
                 Some(into) => ws
                     .between_hands
                     .iter()
@@ -309,7 +345,7 @@ impl ReducedWorld {
                 ws.free.push(into + from);
                 ws.target.push(match k {
                     0 if p.gap > 0.0 => -p.gap / dt,
-                    0 => -p.gap * BAUMGARTE / dt,
+                    0 => -p.gap / PUSH_OUT_TIME.max(2.0 * dt),
                     _ => 0.0,
                 });
                 ws.lambda.push(warm[k]);
@@ -342,7 +378,9 @@ impl ReducedWorld {
         );
         for hand in &mut self.hands {
             hand.apply_impulses(&ws.lambda);
-            hand.impulses.iter_mut().for_each(|i| *i = [0.0; 3]);
+            hand.impulses
+                .iter_mut()
+                .for_each(|i| *i = [[0.0; 3]; CONTACT_SLOTS]);
         }
         ws.between_hands.clear();
         for (c, p) in ws.points.iter().enumerate() {
@@ -350,7 +388,7 @@ impl ReducedWorld {
             match p.into {
                 Some(into) => ws.between_hands.push((p.from, into, impulse)),
                 None => {
-                    self.hands[p.from.hand].impulses[p.from.capsule] = impulse;
+                    self.hands[p.from.hand].impulses[p.from.capsule][p.slot] = impulse;
                     if let Some(object) = &mut self.object {
                         for (k, l) in impulse.iter().enumerate() {
                             object.velocity += p.directions[k] * (l * inverse_mass);
@@ -371,17 +409,23 @@ impl ReducedWorld {
             report.touching = 0;
             report.bone_forces.iter_mut().for_each(|f| *f = 0.0);
         }
-        // One contact per capsule and thing touched: a capsule touches when its normal
-        // impulse pushes.
+        // A capsule touches a thing when a normal impulse between them pushes; its contacts
+        // with the object (its nearest point and ends) are consecutive and count once.
+        let mut counted: Option<(CapsuleOf, Option<CapsuleOf>)> = None;
         for (c, p) in self.contact.points.iter().enumerate() {
             let force = self.contact.lambda[3 * c] / self.dt;
+            let pair = Some((p.from, p.into));
+            let new_pair = force > 0.0 && counted != pair;
+            if new_pair {
+                counted = pair;
+            }
             for side in std::iter::once(p.from).chain(p.into) {
                 let report = &mut self.hands[side.hand].report;
                 report.penetration = report.penetration.max(-p.gap);
                 if force > 0.0 {
                     report.force += force;
                     report.bone_forces[side.bone] += force;
-                    report.touching += 1;
+                    report.touching += usize::from(new_pair);
                 }
             }
         }
@@ -426,7 +470,9 @@ impl PhysicsEngine for ReducedWorld {
             o.fixed = false;
             // Impulses against an immovable object say nothing about a free one.
             for h in &mut self.hands {
-                h.impulses.iter_mut().for_each(|i| *i = [0.0; 3]);
+                h.impulses
+                    .iter_mut()
+                    .for_each(|i| *i = [[0.0; 3]; CONTACT_SLOTS]);
             }
         }
     }
@@ -535,6 +581,90 @@ mod tests {
     use super::*;
     use crate::holding_wrench::FrameMotion;
     use crate::reduced_hand::tests::hands;
+
+    /// The contacts of capsule `k` of a human hand with a flat 20 cm slab whose top face lies
+    /// 0.3 mm under the capsule along its whole length, the slab then tilted about the
+    /// capsule's end `a` by `tilt` radians (its end `b` lifts off the face).
+    fn contacts_on_a_face(k: usize, tilt: f64) -> Vec<(usize, Point3, Point3, Point3)> {
+        let hand = prehensile_formats::builtin_hand("human").unwrap();
+        let mut world = ReducedWorld::new(&Settings::default());
+        let start = vec![0.0; hand.dof_count()];
+        world
+            .add_hand(&hand, &Transform::identity(), &start)
+            .unwrap();
+        world.hands[0].place(1e-3);
+        let c = &hand.capsules()[k];
+        let frame = world.hands[0].frames[c.bone];
+        let (a, b) = (frame * c.a, frame * c.b);
+        let along = (b - a).normalize();
+        let up = along.cross(&Vec3::z()).cross(&along).normalize();
+        let thickness = 0.02;
+        // The slab's frame: x along the capsule, z out of its top face.
+        let turn = Rotation::from_matrix(&nalgebra::Matrix3::from_columns(&[
+            along,
+            up.cross(&along),
+            up,
+        ]));
+        let below = a - up * (c.radius + 3e-4 + 0.5 * thickness) + along * (0.5 * (b - a).norm());
+        let tilted =
+            Rotation::from_axis_angle(&nalgebra::Unit::new_normalize(up.cross(&along)), tilt);
+        let pose = Transform::from_parts((a.coords + tilted * (below - a)).into(), tilted * turn);
+        let mesh = prehensile_core::shapes::cuboid(Vec3::new(0.2, 0.2, thickness));
+        let slab = ObjectModel::new("slab", mesh, None).unwrap();
+        world.add_object(&slab, &pose, true).unwrap();
+        world.find_contacts();
+        world
+            .contact
+            .points
+            .iter()
+            .filter(|p| p.from.capsule == k)
+            .map(|p| (p.slot, p.point, a, b))
+            .collect()
+    }
+
+    /// A finger bone lying along a face touches it at its nearest point and at both ends, so
+    /// that the face cannot pivot about one point of the bone; tilted so that one end lifts
+    /// off, that end has no contact.
+    #[test]
+    fn a_bone_lying_along_a_face_touches_it_at_both_ends() {
+        let hand = prehensile_formats::builtin_hand("human").unwrap();
+        let k = (0..hand.capsules().len())
+            .rev()
+            .find(|&k| {
+                let c = &hand.capsules()[k];
+                (c.b - c.a).norm() > 0.015
+            })
+            .unwrap();
+        let radius = hand.capsules()[k].radius;
+        let flat = contacts_on_a_face(k, 0.0);
+        let (a, b) = (flat[0].2, flat[0].3);
+        let along = |p: &Point3| (p - a).dot(&(b - a)) / (b - a).norm_squared();
+        // The nearest point lies anywhere along a flat bone; an end within a quarter of the
+        // bone from it is that contact already.
+        let span = flat.iter().map(|c| along(&c.1)).fold(0.0, f64::max)
+            - flat.iter().map(|c| along(&c.1)).fold(1.0, f64::min);
+        assert!(
+            flat.len() >= 2 && span > 0.95,
+            "contacts span {span} of the bone: {flat:?}"
+        );
+        for (slot, point, ..) in &flat[1..] {
+            let end = if *slot == 1 { a } else { b };
+            let off = (point - end).norm() - radius;
+            assert!(
+                off.abs() < 1e-3,
+                "end {slot}: contact {off} m off the end's foot"
+            );
+        }
+        let tilted = contacts_on_a_face(k, 0.3);
+        assert!(
+            tilted.iter().all(|c| c.0 != 2),
+            "end b lifted off: {tilted:?}"
+        );
+        assert!(
+            along(&tilted[0].1) < 0.05,
+            "the nearest point is end a: {tilted:?}"
+        );
+    }
 
     /// The hand's free motion (no springs, no contact, no compensation) under gravity, with
     /// the palm accelerating sideways, against [`prehensile_control::forward_dynamics`]
