@@ -23,7 +23,7 @@ def main():
     parser.add_argument("--hand", default=str(ROOT / "assets/hands/shadow_hand/reach.xml"))
     parser.add_argument("--dt", default="0.001", help="step length, seconds")
     parser.add_argument("--pairs", type=int, default=30)
-    parser.add_argument("--engine", default="rapier", choices=["rapier", "reduced"])
+    parser.add_argument("--engine", default="reduced", choices=["rapier", "reduced"])
     args = parser.parse_args()
     if args.pairs < 2:
         parser.error("--pairs must be at least 2")

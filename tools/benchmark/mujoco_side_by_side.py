@@ -156,7 +156,7 @@ def main():
     parser.add_argument("--pairs", type=int, default=30, help="alternating blocks per step length")
     parser.add_argument("--object", choices=["primitive", "mesh"], default="primitive",
                         help="MuJoCo's sphere: its analytic sphere, or Prehensile's sphere mesh")
-    parser.add_argument("--engine", choices=["rapier", "reduced"], default="rapier",
+    parser.add_argument("--engine", choices=["rapier", "reduced"], default="reduced",
                         help="Prehensile's engine (prehensile simulate --engine)")
     arguments = parser.parse_args()
     pairs = arguments.pairs

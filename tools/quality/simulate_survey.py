@@ -36,7 +36,7 @@ def main():
     parser.add_argument("--cli", default="target/release/prehensile")
     parser.add_argument("--candidates", type=int,
                         help="grasps per object checked before each run (default: the CLI's)")
-    parser.add_argument("--engine", default="rapier", choices=["rapier", "reduced"],
+    parser.add_argument("--engine", default="reduced", choices=["rapier", "reduced"],
                         help="the simulation's engine (prehensile simulate --engine)")
     parser.add_argument("--dt", type=float, help="time step, seconds (default: the CLI's)")
     args = parser.parse_args()

@@ -145,10 +145,10 @@ pub struct SimulateArgs {
     /// Time step, seconds.
     #[arg(long, default_value_t = 0.001)]
     pub dt: f64,
-    /// The physics: `rapier` (one body per bone joined by rapier's impulse joints) or `reduced`
-    /// (each hand in its joint angles on Prehensile's own dynamics and contact solver, about
-    /// 2.5× faster).
-    #[arg(long, default_value = "rapier")]
+    /// The physics: `reduced` (each hand in its joint angles on Prehensile's own dynamics and
+    /// contact solver; it follows the hand model's equations of motion) or `rapier` (one body
+    /// per bone joined by rapier's impulse joints, 2–4× slower).
+    #[arg(long, default_value = "reduced")]
     pub engine: String,
     /// Simulated seconds per case (default: the scenario's own).
     #[arg(long)]

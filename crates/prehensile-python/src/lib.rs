@@ -767,11 +767,11 @@ impl Planner {
 
 /// Runs one of the paper's scenarios (`drop`, `grasp`, `grip-sweep`, `handshake`, `open-close`,
 /// `shake`) as `prehensile simulate` does (same defaults: the human hand; sphere, box and
-/// cylinder; `candidates` grasps per object checked; `engine` `rapier` or `reduced`); returns its
+/// cylinder; `candidates` grasps per object checked; `engine` `reduced`, the default, or `rapier`); returns its
 /// report as a dict.
 #[pyfunction]
 #[pyo3(signature = (scenario = "grasp", *, hand = None, objects = None, alpha = 0.5, dt = 0.001,
-    friction = 1.0, density = 20.0, seconds = None, candidates = 3, engine = "rapier"))]
+    friction = 1.0, density = 20.0, seconds = None, candidates = 3, engine = "reduced"))]
 #[allow(clippy::too_many_arguments)]
 fn simulate<'py>(
     py: Python<'py>,

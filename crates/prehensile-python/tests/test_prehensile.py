@@ -149,12 +149,12 @@ def test_simulate_holds_the_sphere():
     assert unchecked["cases"][0]["metrics"]["hold_check_tried"] == 0.0
     with pytest.raises(prehensile.PrehensileError, match="candidates=0"):
         prehensile.simulate("grasp", objects=["sphere"], candidates=0)
-    assert report["engine"] == "rapier"
-
-
-def test_simulate_on_the_reduced_engine():
-    report = prehensile.simulate("grasp", objects=["sphere"], engine="reduced")
     assert report["engine"] == "reduced"
+
+
+def test_simulate_on_rapier():
+    report = prehensile.simulate("grasp", objects=["sphere"], engine="rapier")
+    assert report["engine"] == "rapier"
     assert report["cases"][0]["held"] is True
     with pytest.raises(prehensile.PrehensileError, match="unknown engine 'bullet'"):
         prehensile.simulate("grasp", objects=["sphere"], engine="bullet")

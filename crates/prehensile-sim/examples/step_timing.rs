@@ -4,7 +4,7 @@
 //! `cargo run --release -p prehensile-sim --example step_timing -- [--engine ENGINE] HAND DT...`
 //! builds, for every step length DT (seconds), the hand HAND (a hand file or built-in name)
 //! holding the built-in sphere still ([`prehensile_sim::scenarios::held_still`], the default
-//! solver for DT; ENGINE `rapier`, the default, or `reduced`), prints `ready`,
+//! solver for DT; ENGINE `reduced`, the default, or `rapier`), prints `ready`,
 //! then answers each line `DT STEPS` on standard input with the median microseconds per step of
 //! that many steps, timed in blocks of 100. The published numbers come from the criterion
 //! benchmark (`cargo bench -p prehensile-bench --bench simulation`); this only lets the two
@@ -23,11 +23,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let name = args.drain(..2).nth(1).unwrap_or_default();
         Engine::from_name(&name).ok_or_else(|| format!("unknown engine '{name}'"))?
     } else {
-        Engine::Rapier
+        Engine::default()
     };
     let Some((hand, steps)) = args.split_first() else {
         return Err(
-            "usage: step_timing [--engine rapier|reduced] HAND DT... (e.g. human 0.0002 0.001)"
+            "usage: step_timing [--engine reduced|rapier] HAND DT... (e.g. human 0.0002 0.001)"
                 .into(),
         );
     };

@@ -1,8 +1,8 @@
 //! What a [`crate::Simulation`] asks of the physics that steps it: bodies for hands and an
 //! object, the hands' joint state, their drive for the next step, and what touched. Two engines
-//! answer: [`crate::rapier_world::RapierWorld`] (rapier's impulse joints, the default) and
-//! [`crate::reduced_world::ReducedWorld`] (the hand in reduced coordinates on the project's own
-//! dynamics, with a contact solver of its own). The simulation keeps everything else: the
+//! answer: [`crate::reduced_world::ReducedWorld`] (the default: the hand in reduced coordinates
+//! on the project's own dynamics, with a contact solver of its own) and
+//! [`crate::rapier_world::RapierWorld`] (rapier's impulse joints). The simulation keeps everything else: the
 //! controllers, their state machines, the recording and the checks.
 
 use prehensile_control::JointSpring;
@@ -18,11 +18,13 @@ use crate::SimError;
 #[serde(rename_all = "lowercase")]
 pub enum Engine {
     /// rapier3d: one rigid body per bone, joined by impulse joints with motors.
-    #[default]
     Rapier,
-    /// The hand in reduced coordinates (its joint angles) on the project's own dynamics (RNEA,
-    /// CRBA), the controller's springs integrated implicitly, contacts solved by projected
-    /// Gauss–Seidel against the object's distance grid and between the hands' capsules.
+    /// The default: the hand in reduced coordinates (its joint angles) on the project's own
+    /// dynamics (RNEA, CRBA), the controller's springs integrated implicitly, contacts solved by
+    /// projected Gauss–Seidel against the object's distance grid and between the hands'
+    /// capsules. It moves the hand as the model's equations of motion say (rapier's two-axis
+    /// joints do not) and steps 2–4× faster than rapier (docs/PERFORMANCE.md, session 47).
+    #[default]
     Reduced,
 }
 

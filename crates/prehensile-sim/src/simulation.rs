@@ -26,7 +26,8 @@ pub struct Settings {
     pub dt: f64,
     /// Gravity, world, m/s² (default 9.81 down −z).
     pub gravity: Vec3,
-    /// Friction coefficient of skin and objects (combined by rapier as their mean).
+    /// Friction coefficient of skin and objects (one for both; rapier combines its colliders'
+    /// as their mean, the same here).
     pub friction: f64,
     /// Object density, kg/m³ (default 20, like expanded polystyrene: with Table 1's gains the
     /// hand squeezes with 0.03–0.62 N for α 0–0.5, enough for objects of a few grams).
@@ -64,7 +65,7 @@ impl Settings {
             solver_iterations: Self::iterations_for(dt),
             inner_iterations: Self::inner_iterations_for(dt),
             record_fps: 60.0,
-            engine: Engine::Rapier,
+            engine: Engine::default(),
         }
     }
 

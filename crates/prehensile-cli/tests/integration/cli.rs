@@ -654,31 +654,19 @@ fn simulate_refuses_bad_settings_with_the_reason() {
         ),
     ] {
         let json = scratch("refused.json");
-        let out = prehensile(&[
-            "simulate",
-            "--scenario",
-            "drop",
-            "--seconds",
-            "0.1",
-            option,
-            value,
-            "--out",
-            json.to_str().unwrap(),
-        ]);
+        let mut args = vec!["simulate", "--scenario", "drop", "--seconds", "0.1"];
+        if option.contains("iterations") {
+            // Rapier's solver settings; the default engine has none (below).
+            args.extend(["--engine", "rapier"]);
+        }
+        args.extend([option, value, "--out", json.to_str().unwrap()]);
+        let out = prehensile(&args);
         assert_eq!(out.status.code(), Some(2), "{option} {value}");
         assert!(text(&out.stderr).contains(reason), "{}", text(&out.stderr));
         assert!(!json.exists(), "no report for a refused run");
     }
     // Rapier's solver settings mean nothing to the reduced engine: said, not ignored.
-    let out = prehensile(&[
-        "simulate",
-        "--scenario",
-        "drop",
-        "--engine",
-        "reduced",
-        "--iterations",
-        "4",
-    ]);
+    let out = prehensile(&["simulate", "--scenario", "drop", "--iterations", "4"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(
         text(&out.stderr).contains("the reduced engine has none"),
@@ -688,23 +676,21 @@ fn simulate_refuses_bad_settings_with_the_reason() {
 }
 
 #[test]
-fn simulate_runs_on_the_reduced_engine_and_says_so() {
-    let json = scratch("reduced.json");
-    let out = prehensile(&[
-        "simulate",
-        "--scenario",
-        "grasp",
-        "--object",
-        "sphere",
-        "--engine",
-        "reduced",
-        "--out",
-        json.to_str().unwrap(),
-    ]);
-    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
-    let report: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
-    assert_eq!(report["engine"], "reduced");
-    assert_eq!(report["held"], true);
+fn simulate_runs_on_the_reduced_engine_by_default_and_on_rapier_when_asked_and_says_so() {
+    for (engine, asked) in [("reduced", None), ("rapier", Some("rapier"))] {
+        let json = scratch(&format!("{engine}.json"));
+        let mut args = vec!["simulate", "--scenario", "grasp", "--object", "sphere"];
+        if let Some(asked) = asked {
+            args.extend(["--engine", asked]);
+        }
+        args.extend(["--out", json.to_str().unwrap()]);
+        let out = prehensile(&args);
+        assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+        let report: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+        assert_eq!(report["engine"], engine);
+        assert_eq!(report["held"], true, "{engine}");
+    }
 }
 
 #[test]

@@ -127,7 +127,7 @@ def simulate(scenario: str = "grasp", *, hand: Optional[HandLike] = None,
              objects: Optional[Sequence[ObjectLike]] = None, alpha: float = 0.5,
              dt: float = 0.001, friction: float = 1.0, density: float = 20.0,
              seconds: Optional[float] = None, candidates: int = 3,
-             engine: str = "rapier") -> dict[str, Any]: ...
+             engine: str = "reduced") -> dict[str, Any]: ...
 
 def batch(out: str, *, hands: Sequence[str] = ..., objects: Optional[Sequence[str]] = None,
           movements: Sequence[str] = ..., shoulders: Sequence[str] = ..., seeds: int = 1,

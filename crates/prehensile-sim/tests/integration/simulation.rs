@@ -364,13 +364,23 @@ fn hand_file_options(path: &str, objects: &[&str]) -> Options {
 
 #[test]
 fn the_hand_lifts_a_light_sphere_and_carries_it() {
-    let (report, _) =
-        scenarios::run(Scenario::Grasp, &options(&["sphere"], 0.5), &mut |_, _| {}).unwrap();
-    let case = &report.cases[0];
-    assert!(case.finite);
-    assert_eq!(case.held, Some(true), "{case:?}");
-    assert!(case.metrics["object_rise_m"] > 0.08, "{case:?}");
-    assert!(case.object_slip_m.unwrap() < 0.01, "{case:?}");
+    // The slip on each engine (session 47): reduced 14.9 mm, rapier 7.0 mm. Rapier's figure
+    // depends on the mass it gives the intermediate body of each two-axis joint, which the hand
+    // model does not have (2.7 mm at 0.3 of the bone's mass), the reduced engine's on nothing
+    // outside the model (14.1–14.9 mm at dt 0.2–1 ms).
+    for (engine, most_slip) in [(Engine::Reduced, 0.02), (Engine::Rapier, 0.01)] {
+        let mut options = options(&["sphere"], 0.5);
+        options.settings.engine = engine;
+        let (report, _) = scenarios::run(Scenario::Grasp, &options, &mut |_, _| {}).unwrap();
+        let case = &report.cases[0];
+        assert!(case.finite);
+        assert_eq!(case.held, Some(true), "{engine:?}: {case:?}");
+        assert!(case.metrics["object_rise_m"] > 0.08, "{engine:?}: {case:?}");
+        assert!(
+            case.object_slip_m.unwrap() < most_slip,
+            "{engine:?}: {case:?}"
+        );
+    }
 }
 
 /// `prehensile simulate`'s default run (Fig. 6) with `hand`: one controller, fitted to the
@@ -410,7 +420,7 @@ fn the_left_hands_controller_fitted_to_the_sphere_lifts_the_box_too() {
     // movement's fingers stop; the sphere's grip did not close on it and the box fell.
     the_default_run_holds_all_three(
         prehensile_formats::builtin_hand("human-left").unwrap(),
-        Engine::Rapier,
+        Engine::default(),
     );
 }
 
