@@ -322,7 +322,8 @@ pub struct GraspArgs {
     /// same grasp either way; a single grasp takes longer in all.
     #[arg(long)]
     pub fill_grid: bool,
-    /// Also test the grasp in the rapier world: the hand squeezes (grip strength 0.5), then
+    /// Also test the grasp in the simulation (its default, reduced-coordinate engine): the hand
+    /// squeezes (grip strength 0.5), then
     /// gravity pulls the object along each of the 6 axis directions for 1 s; held = moved < 2 cm
     /// and turned < 30°. Adds `hold` to the JSON.
     #[arg(long)]

@@ -447,7 +447,7 @@ impl GraspResultPy {
         to_python(py, &self.result.stats)
     }
 
-    /// The rapier hold test's report (`grasp(..., hold=True)`), else None.
+    /// The hold test's report (`grasp(..., hold=True)`), else None.
     #[getter]
     fn hold<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
         self.hold.as_ref().map(|h| to_python(py, h)).transpose()
@@ -575,7 +575,7 @@ fn hooked(object: Arc<ObjectModel>, hook: Option<[f64; 3]>) -> PyResult<Arc<Obje
 }
 
 /// Searches a grasp of `object` by `hand` (each a model, a built-in name or a file), exactly as
-/// `prehensile grasp` does; with `hold=True` also runs the rapier hold test.
+/// `prehensile grasp` does; with `hold=True` also runs the hold test (in the simulation's default engine).
 /// `one_sided_patience` is `--one-sided-patience`: steps to go on looking past a grasp whose
 /// contacts all push from one side. `budget_ms` is `--budget-ms`: the whole search's time, every
 /// movement of `auto` within it.

@@ -40,6 +40,14 @@ impl Engine {
             _ => None,
         }
     }
+
+    /// Its command-line name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Rapier => Self::NAMES[0],
+            Self::Reduced => Self::NAMES[1],
+        }
+    }
 }
 
 /// What drives one hand over the next step.

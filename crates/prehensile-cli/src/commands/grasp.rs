@@ -281,7 +281,8 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
             .map(|d| d.direction)
             .collect();
         eprintln!(
-            "hold test (rapier, alpha {}, {:.1} g object): held against gravity along {} of 6 directions ({})",
+            "hold test ({} engine, alpha {}, {:.1} g object): held against gravity along {} of 6 directions ({})",
+            h.engine.name(),
             h.alpha,
             h.object_mass_kg * 1e3,
             h.held,

@@ -718,7 +718,11 @@ fn grasp_hold_tests_the_grasp_in_six_directions() {
         json.to_str().unwrap(),
     ]);
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
-    assert!(text(&out.stderr).contains("hold test"));
+    assert!(
+        text(&out.stderr).contains("hold test (reduced engine"),
+        "{}",
+        text(&out.stderr)
+    );
     let r: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let directions = r["hold"]["directions"].as_array().unwrap();
@@ -730,6 +734,7 @@ fn grasp_hold_tests_the_grasp_in_six_directions() {
     let held = directions.iter().filter(|d| d["held"] == true).count();
     assert_eq!(r["hold"]["held"].as_u64().unwrap() as usize, held);
     assert!(held >= 4, "{}", r["hold"]);
+    assert_eq!(r["hold"]["engine"], "reduced");
 }
 
 #[test]

@@ -10,7 +10,7 @@ The same library as the ``prehensile`` command-line tool (same defaults, same me
 - :class:`Hand` and :class:`Object` load built-in models, files, or (objects) numpy arrays;
 - :func:`grasp` searches a grasp (every option of ``prehensile grasp``);
 - :class:`Planner` is the anytime planner for interactive loops;
-- :func:`simulate` runs the Pollard & Zordan controller in the rapier world;
+- :func:`simulate` runs the Pollard & Zordan controller in the simulation (reduced-coordinate engine by default, rapier on request);
 - :func:`batch` writes a resumable Parquet dataset (``prehensile batch``), and
   :mod:`prehensile.ray_batch` shards one over a Ray cluster;
 - :func:`check` reports on a mesh file.

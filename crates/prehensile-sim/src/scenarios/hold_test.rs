@@ -47,6 +47,8 @@ pub struct HoldDirection {
 /// The hold test of one grasp.
 #[derive(Debug, Clone, Serialize)]
 pub struct HoldReport {
+    /// The engine that ran it.
+    pub engine: crate::Engine,
     /// Grip strength α.
     pub alpha: f64,
     /// Object mass in the simulation, kg.
@@ -95,6 +97,7 @@ pub fn hold_test(
         })
         .collect::<Result<Vec<_>, SimError>>()?;
     let mut report = HoldReport {
+        engine: settings.engine,
         alpha,
         object_mass_kg: outcomes.last().map_or(0.0, |(_, mass)| *mass),
         dt: settings.dt,
