@@ -147,7 +147,7 @@ pub struct SimulateArgs {
     pub dt: f64,
     /// The physics: `reduced` (each hand in its joint angles on Prehensile's own dynamics and
     /// contact solver; it follows the hand model's equations of motion) or `rapier` (one body
-    /// per bone joined by rapier's impulse joints, 2–4× slower).
+    /// per bone joined by rapier's impulse joints; scenarios run 1.8–4.9× slower).
     #[arg(long, default_value = "reduced")]
     pub engine: String,
     /// Simulated seconds per case (default: the scenario's own).

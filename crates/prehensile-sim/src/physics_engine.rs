@@ -23,7 +23,7 @@ pub enum Engine {
     /// dynamics (RNEA, CRBA), the controller's springs integrated implicitly, contacts solved by
     /// projected Gauss–Seidel against the object's distance grid and between the hands'
     /// capsules. It moves the hand as the model's equations of motion say (rapier's two-axis
-    /// joints do not) and steps 2–4× faster than rapier (docs/PERFORMANCE.md, session 47).
+    /// joints do not) and steps 1.3–3.1× faster than rapier (docs/PERFORMANCE.md, session 47).
     #[default]
     Reduced,
 }
