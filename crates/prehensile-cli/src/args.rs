@@ -328,6 +328,9 @@ pub struct GraspArgs {
     /// and turned < 30°. Adds `hold` to the JSON.
     #[arg(long)]
     pub hold: bool,
+    /// The engine of `--hold`: `reduced` (the default) or `rapier`.
+    #[arg(long, default_value = "reduced", requires = "hold")]
+    pub hold_engine: String,
     /// Write the result as JSON here.
     #[arg(long)]
     pub out: Option<PathBuf>,

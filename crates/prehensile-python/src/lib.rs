@@ -627,9 +627,13 @@ fn grasp(
             let result =
                 find_grasp(&hand, &object, &request, &mut ()).map_err(|e| e.to_string())?;
             let hold = if hold {
-                let report =
-                    prehensile_sim::scenarios::hold_test_of_result(&hand, &object, &result)
-                        .map_err(|e| e.to_string())?;
+                let report = prehensile_sim::scenarios::hold_test_of_result(
+                    &hand,
+                    &object,
+                    &result,
+                    prehensile_sim::Engine::default(),
+                )
+                .map_err(|e| e.to_string())?;
                 Some(serde_json::to_value(report).map_err(|e| e.to_string())?)
             } else {
                 None

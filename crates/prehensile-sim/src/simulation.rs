@@ -386,6 +386,17 @@ impl Simulation {
         self.engine.palm(i) * self.hands[i].palm_local.inverse()
     }
 
+    /// The world frame of hand `i`'s root bone (its palm) now.
+    pub fn palm_frame(&self, i: usize) -> Transform {
+        self.engine.palm(i)
+    }
+
+    /// What hand `i`'s controller asked of the engine for the last step: a linear spring per
+    /// degree of freedom (τP + τA) and the ball joints' cross torques.
+    pub fn joint_springs(&self, i: usize) -> (&[JointSpring], &[f64]) {
+        (&self.hands[i].springs, &self.hands[i].coupling)
+    }
+
     /// The state machine's changes so far.
     pub fn timeline(&self) -> &[StateChange] {
         &self.timeline

@@ -133,6 +133,13 @@ pub fn up_axis(s: &str) -> Result<Vec3, CliError> {
 /// Runs `prehensile grasp`.
 pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
     let setup = Instant::now();
+    let hold_engine = prehensile_sim::Engine::from_name(&args.hold_engine).ok_or_else(|| {
+        CliError::Usage(format!(
+            "unknown --hold-engine '{}'; choose one of {}",
+            args.hold_engine,
+            prehensile_sim::Engine::NAMES.join(", ")
+        ))
+    })?;
     // The hand and the object need nothing of each other: read and set up side by side (a
     // scan's setup and a robot hand's file each take milliseconds).
     let (hand, object) = rayon::join(
@@ -206,7 +213,10 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
     let (result, took) = search(&hand, &object, &request, true)?;
     let hold = if args.hold {
         Some(prehensile_sim::scenarios::hold_test_of_result(
-            &hand, &object, &result,
+            &hand,
+            &object,
+            &result,
+            hold_engine,
         )?)
     } else {
         None

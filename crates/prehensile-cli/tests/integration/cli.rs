@@ -735,6 +735,75 @@ fn grasp_hold_tests_the_grasp_in_six_directions() {
     assert_eq!(r["hold"]["held"].as_u64().unwrap() as usize, held);
     assert!(held >= 4, "{}", r["hold"]);
     assert_eq!(r["hold"]["engine"], "reduced");
+    // The hand at the let-go, for another engine to rebuild: the palm where the search put it
+    // (the arm path ends there and stays), and one spring per degree of freedom.
+    let let_go = &r["hold"]["let_go"];
+    let numbers = |key: &str| -> Vec<f64> {
+        let values = let_go[key]
+            .as_array()
+            .unwrap_or_else(|| panic!("{key}: {let_go}"));
+        values.iter().map(|v| v.as_f64().unwrap()).collect()
+    };
+    let palm = &r["bones"][0]["pose"];
+    for (k, at) in numbers("palm_position").iter().enumerate() {
+        let searched = palm["position"][k].as_f64().unwrap();
+        assert!((at - searched).abs() < 1e-6, "palm {at} against {searched}");
+    }
+    let [w, x, y, z] = numbers("palm_rotation_wxyz")[..] else {
+        panic!("{let_go}")
+    };
+    let searched: Vec<f64> = (0..4)
+        .map(|k| palm["rotation_xyzw"][k].as_f64().unwrap())
+        .collect();
+    let turn = x * searched[0] + y * searched[1] + z * searched[2] + w * searched[3];
+    assert!(turn.abs() > 1.0 - 1e-9, "palm turned: {let_go}");
+    let dofs = numbers("joint_angles").len();
+    assert!(dofs > 10);
+    for key in [
+        "stiffness",
+        "damping",
+        "target",
+        "target_velocity",
+        "coupling",
+    ] {
+        let values = numbers(key);
+        assert_eq!(values.len(), dofs, "{key}");
+        assert!(values.iter().all(|v| v.is_finite()), "{key}");
+    }
+    assert!(numbers("stiffness").iter().all(|k| *k > 0.0));
+
+    // The same test on rapier, on request; a misspelt engine, or one without --hold, refused.
+    let out = prehensile(&[
+        "grasp",
+        "--object",
+        "sphere",
+        "--movement",
+        "power",
+        "--hold",
+        "--hold-engine",
+        "rapier",
+        "--out",
+        json.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert!(text(&out.stderr).contains("hold test (rapier engine"));
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(r["hold"]["engine"], "rapier");
+    for refused in [
+        &["--hold", "--hold-engine", "bullet"][..],
+        &["--hold-engine", "rapier"][..],
+    ] {
+        let mut args = vec!["grasp", "--object", "sphere"];
+        args.extend(refused);
+        let out = prehensile(&args);
+        assert_eq!(out.status.code(), Some(2), "{refused:?}");
+        assert!(
+            text(&out.stderr).contains("--hold"),
+            "{}",
+            text(&out.stderr)
+        );
+    }
 }
 
 #[test]

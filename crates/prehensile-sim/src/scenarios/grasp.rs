@@ -221,7 +221,7 @@ fn checked_grasp<T>(
             return Ok((grasp, controller, carried, check));
         }
         tried += 1;
-        let (outcome, _) = hold_against(
+        let (outcome, ..) = hold_against(
             &options.hand,
             object,
             &grasp,

@@ -59,6 +59,49 @@ pub struct HoldReport {
     pub directions: Vec<HoldDirection>,
     /// How many directions held.
     pub held: usize,
+    /// The hand as the first direction's object was let go: enough to rebuild the moment in
+    /// another engine (`tools/mujoco/hold_third_opinion.py` does, in MuJoCo).
+    pub let_go: LetGo,
+}
+
+/// The hand at the let-go: where its palm is and what its controller asks, as springs.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct LetGo {
+    /// The palm (root bone) frame in the object's frame: position, metres.
+    pub palm_position: [f64; 3],
+    /// Its rotation as a unit quaternion, `[w, x, y, z]`.
+    pub palm_rotation_wxyz: [f64; 4],
+    /// Joint angles, per degree of freedom (the hand's order), radians.
+    pub joint_angles: Vec<f64>,
+    /// The controller's joint springs τP + τA, whose torque is stiffness·(target − q) +
+    /// damping·(target_velocity − q̇): stiffness per degree of freedom, N·m/rad.
+    pub stiffness: Vec<f64>,
+    /// Damping per degree of freedom, N·m·s/rad.
+    pub damping: Vec<f64>,
+    /// Target angle per degree of freedom, rad.
+    pub target: Vec<f64>,
+    /// Target rate per degree of freedom, rad/s.
+    pub target_velocity: Vec<f64>,
+    /// Ball joints' cross torques, N·m per degree of freedom (0 for other joints).
+    pub coupling: Vec<f64>,
+}
+
+impl LetGo {
+    fn of(sim: &Simulation) -> Self {
+        let palm = sim.palm_frame(0);
+        let (springs, coupling) = sim.joint_springs(0);
+        let r = palm.rotation;
+        Self {
+            palm_position: palm.translation.vector.into(),
+            palm_rotation_wxyz: [r.w, r.i, r.j, r.k],
+            joint_angles: sim.joint_angles(0).to_vec(),
+            stiffness: springs.iter().map(|s| s.stiffness).collect(),
+            damping: springs.iter().map(|s| s.damping).collect(),
+            target: springs.iter().map(|s| s.target).collect(),
+            target_velocity: springs.iter().map(|s| s.target_velocity).collect(),
+            coupling: coupling.to_vec(),
+        }
+    }
 }
 
 /// Runs the hold test of `grasp` (from [`super::plan_grasp`] or
@@ -99,33 +142,40 @@ pub fn hold_test(
     let mut report = HoldReport {
         engine: settings.engine,
         alpha,
-        object_mass_kg: outcomes.last().map_or(0.0, |(_, mass)| *mass),
+        object_mass_kg: outcomes.last().map_or(0.0, |(_, mass, _)| *mass),
         dt: settings.dt,
         directions: Vec::with_capacity(6),
         held: 0,
+        let_go: outcomes.first().map(|o| o.2.clone()).unwrap_or_default(),
     };
-    for (outcome, _) in outcomes {
+    for (outcome, ..) in outcomes {
         report.held += usize::from(outcome.held);
         report.directions.push(outcome);
     }
     Ok(report)
 }
 
-/// The hold test of a search result with the default world and grip strength [`HOLD_ALPHA`]:
-/// what `prehensile grasp --hold` and the Python package's `grasp(..., hold=True)` run.
+/// The hold test of a search result in the default world on `engine` with grip strength
+/// [`HOLD_ALPHA`]: what `prehensile grasp --hold` and the Python package's
+/// `grasp(..., hold=True)` run.
 pub fn hold_test_of_result(
     hand: &HandModel,
     object: &ObjectModel,
     result: &prehensile_core::search::GraspResult,
+    engine: crate::Engine,
 ) -> Result<HoldReport, SimError> {
     let grasp = PlannedGrasp::from_result(hand, result)?;
-    hold_test(hand, object, &grasp, Settings::default(), HOLD_ALPHA)
+    let settings = Settings {
+        engine,
+        ..Settings::default()
+    };
+    hold_test(hand, object, &grasp, settings, HOLD_ALPHA)
 }
 
 /// One load direction of the hold test: `hand` under `controller` closes on `object` along
 /// `grasp`'s arm path, the object is let go into `settings`' gravity and watched for
-/// [`HOLD_SECONDS`] with the arm still. Returns the outcome, labelled `direction`, and the
-/// object's mass.
+/// [`HOLD_SECONDS`] with the arm still. Returns the outcome, labelled `direction`, the
+/// object's mass and the hand at the let-go.
 pub(crate) fn hold_against(
     hand: &HandModel,
     object: &ObjectModel,
@@ -133,7 +183,7 @@ pub(crate) fn hold_against(
     controller: GraspController,
     settings: Settings,
     direction: &'static str,
-) -> Result<(HoldDirection, f64), SimError> {
+) -> Result<(HoldDirection, f64, LetGo), SimError> {
     let (mut sim, times) = closing_on_fixed_object(hand, object, grasp, controller, settings)?;
     let mass = sim.object_mass().unwrap_or(0.0);
     let in_hand = |sim: &Simulation| {
@@ -148,9 +198,11 @@ pub(crate) fn hold_against(
         diverged: None,
     };
     let mut start = None;
+    let mut let_go = LetGo::default();
     let end = times.let_go + HOLD_SECONDS;
     while sim.time() < end {
         if start.is_none() && sim.time() >= times.let_go {
+            let_go = LetGo::of(&sim);
             sim.let_go_object();
             start = Some(in_hand(&sim));
         }
@@ -165,5 +217,5 @@ pub(crate) fn hold_against(
         outcome.turned_degrees = b.rotation.angle_to(&a.rotation).to_degrees();
         outcome.held = outcome.moved_m < HOLD_MOVE && outcome.turned_degrees < HOLD_TURN_DEGREES;
     }
-    Ok((outcome, mass))
+    Ok((outcome, mass, let_go))
 }

@@ -30,8 +30,8 @@ pub use grasp_plan::{
 };
 pub use held_still::held_still;
 pub use hold_test::{
-    hold_test, hold_test_of_result, HoldDirection, HoldReport, HOLD_ALPHA, HOLD_MOVE, HOLD_SECONDS,
-    HOLD_TURN_DEGREES,
+    hold_test, hold_test_of_result, HoldDirection, HoldReport, LetGo, HOLD_ALPHA, HOLD_MOVE,
+    HOLD_SECONDS, HOLD_TURN_DEGREES,
 };
 
 /// Schema name of run reports.
