@@ -707,24 +707,27 @@ fn fit_writes_a_controller_from_a_generated_example() {
 #[test]
 fn grasp_hold_tests_the_grasp_in_six_directions() {
     let json = scratch("hold.json");
-    let out = prehensile(&[
-        "grasp",
-        "--object",
-        "sphere",
-        "--movement",
-        "power",
-        "--hold",
-        "--out",
-        json.to_str().unwrap(),
-    ]);
-    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
-    assert!(
-        text(&out.stderr).contains("hold test (reduced engine"),
-        "{}",
-        text(&out.stderr)
-    );
-    let r: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    // The sphere's power grasp held on `engine` (named when asked for): the CLI's line and JSON.
+    let hold_on = |engine: &str, asked: bool| -> serde_json::Value {
+        let mut args = vec![
+            "grasp",
+            "--object",
+            "sphere",
+            "--movement",
+            "power",
+            "--hold",
+        ];
+        if asked {
+            args.extend(["--hold-engine", engine]);
+        }
+        args.extend(["--out", json.to_str().unwrap()]);
+        let out = prehensile(&args);
+        assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+        let said = format!("hold test ({engine} engine");
+        assert!(text(&out.stderr).contains(&said), "{}", text(&out.stderr));
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap()
+    };
+    let r = hold_on("reduced", false);
     let directions = r["hold"]["directions"].as_array().unwrap();
     let names: Vec<&str> = directions
         .iter()
@@ -773,23 +776,7 @@ fn grasp_hold_tests_the_grasp_in_six_directions() {
     assert!(numbers("stiffness").iter().all(|k| *k > 0.0));
 
     // The same test on rapier, on request; a misspelt engine, or one without --hold, refused.
-    let out = prehensile(&[
-        "grasp",
-        "--object",
-        "sphere",
-        "--movement",
-        "power",
-        "--hold",
-        "--hold-engine",
-        "rapier",
-        "--out",
-        json.to_str().unwrap(),
-    ]);
-    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
-    assert!(text(&out.stderr).contains("hold test (rapier engine"));
-    let r: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
-    assert_eq!(r["hold"]["engine"], "rapier");
+    assert_eq!(hold_on("rapier", true)["hold"]["engine"], "rapier");
     for refused in [
         &["--hold", "--hold-engine", "bullet"][..],
         &["--hold-engine", "rapier"][..],
