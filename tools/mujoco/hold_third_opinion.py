@@ -57,8 +57,9 @@ def mujoco_held(desc, mesh_file, hold):
     """Directions MuJoCo holds from `hold`'s let-go (module docs)."""
     g = hold["let_go"]
     dofs = [n for j in desc["joints"] for n in j["dofs"]]
+    x, y, z, w = g["palm_rotation_xyzw"]
     root = ET.fromstring(hand_mjcf.mjcf(desc, root_position=g["palm_position"],
-                                        root_quat_wxyz=g["palm_rotation_wxyz"]))
+                                        root_quat_wxyz=(w, x, y, z)))
     option = root.find("option")
     option.set("timestep", "0.0005")
     option.set("gravity", "0 0 0")

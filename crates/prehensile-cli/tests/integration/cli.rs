@@ -752,7 +752,7 @@ fn grasp_hold_tests_the_grasp_in_six_directions() {
         let searched = palm["position"][k].as_f64().unwrap();
         assert!((at - searched).abs() < 1e-6, "palm {at} against {searched}");
     }
-    let [w, x, y, z] = numbers("palm_rotation_wxyz")[..] else {
+    let [x, y, z, w] = numbers("palm_rotation_xyzw")[..] else {
         panic!("{let_go}")
     };
     let searched: Vec<f64> = (0..4)

@@ -69,8 +69,8 @@ pub struct HoldReport {
 pub struct LetGo {
     /// The palm (root bone) frame in the object's frame: position, metres.
     pub palm_position: [f64; 3],
-    /// Its rotation as a unit quaternion, `[w, x, y, z]`.
-    pub palm_rotation_wxyz: [f64; 4],
+    /// Its rotation as a unit quaternion, `[x, y, z, w]` (as every quaternion of a result).
+    pub palm_rotation_xyzw: [f64; 4],
     /// Joint angles, per degree of freedom (the hand's order), radians.
     pub joint_angles: Vec<f64>,
     /// The controller's joint springs τP + τA, whose torque is stiffness·(target − q) +
@@ -93,7 +93,7 @@ impl LetGo {
         let r = palm.rotation;
         Self {
             palm_position: palm.translation.vector.into(),
-            palm_rotation_wxyz: [r.w, r.i, r.j, r.k],
+            palm_rotation_xyzw: [r.i, r.j, r.k, r.w],
             joint_angles: sim.joint_angles(0).to_vec(),
             stiffness: springs.iter().map(|s| s.stiffness).collect(),
             damping: springs.iter().map(|s| s.damping).collect(),
