@@ -194,8 +194,9 @@ impl ReducedWorld {
             let to_mesh = object.pose.inverse();
             for (h, hand) in self.hands.iter_mut().enumerate() {
                 for (capsule, c) in hand.hand.capsules().iter().enumerate() {
+                    // A capsule without a contact needs no clearing of its warm start: the solve
+                    // keeps only this step's impulses.
                     if object.fixed && hand.movers[c.bone].is_empty() {
-                        hand.impulses[capsule] = [[0.0; 3]; CONTACT_SLOTS];
                         continue;
                     }
                     let frame = &hand.frames[c.bone];
@@ -208,7 +209,6 @@ impl ReducedWorld {
                     let found = collider.capsule_contact(&local, FOLLOWED, hand.fractions[capsule]);
                     hand.fractions[capsule] = found.map(|f| f.fraction);
                     let Some(nearest) = found.filter(|f| f.gap <= MARGIN) else {
-                        hand.impulses[capsule] = [[0.0; 3]; CONTACT_SLOTS];
                         continue;
                     };
                     let from = CapsuleOf {
@@ -232,10 +232,7 @@ impl ReducedWorld {
                     };
                     let found = [Some(nearest), end(0.0, local.a), end(1.0, local.b)];
                     for (slot, contact) in found.into_iter().enumerate() {
-                        let Some(contact) = contact else {
-                            hand.impulses[capsule][slot] = [0.0; 3];
-                            continue;
-                        };
+                        let Some(contact) = contact else { continue };
                         points.push(ContactPoint {
                             from,
                             slot,
