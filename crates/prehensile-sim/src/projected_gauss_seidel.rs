@@ -1,16 +1,21 @@
 //! Contact impulses by projected Gauss–Seidel (Erleben, *Velocity-based shock propagation for
 //! multibody dynamics animation*, 2007; the solver of ODE, Bullet and rapier): each contact's
 //! three rows (normal, two tangents) are relaxed in turn against the Delassus matrix, the normal
-//! impulse kept non-negative and each tangent's within the friction pyramid μ λₙ. Written by
-//! hand: the contact rows of one step are a dense system of a few dozen rows, and no crate
-//! solves this complementarity problem on a dense matrix without building its own scene.
+//! impulse kept non-negative and the two tangents' impulse, as a vector, within Coulomb's
+//! friction cone: a disk of radius μ λₙ, as MuJoCo's elliptic cones and rapier keep it. (Each
+//! tangent clamped to ±μ λₙ on its own, a pyramid, lets the contact hold √2 times as hard along
+//! the diagonal of two tangents that are only an arbitrary frame: a squeezed 5 g sphere stuck to
+//! fingers that then rolled it 17–24 mm out of place, where with the disk it rests 8–9 mm on, as
+//! in MuJoCo; docs/QUALITY.md, session 48.) Written by hand: the contact rows of one step are a
+//! dense system of a few dozen rows, and no crate solves this complementarity problem on a dense
+//! matrix without building its own scene.
 
 /// A sweep that changes no impulse by more than this share of the largest ends the solve.
 pub(crate) const CONVERGED: f64 = 1e-6;
 
 /// A contact problem of `3 k` rows (contact `c`'s normal row is `3 c`, its tangents `3 c + 1` and
 /// `3 c + 2`): relative velocity `u = free + D λ`, wanted `uₙ ≥ target`, `λₙ ≥ 0`, `λₙ (uₙ − target)
-/// = 0`, tangents within `friction · λₙ`.
+/// = 0`, the tangents' impulse `(λ₁, λ₂)` no longer than `friction · λₙ`.
 pub(crate) struct ContactProblem<'a> {
     /// The Delassus matrix, `3 k × 3 k`, column-major.
     pub delassus: &'a [f64],
@@ -28,7 +33,7 @@ pub(crate) struct ContactProblem<'a> {
 }
 
 /// Relaxes `lambda` (warm-started: pass last step's impulses, or zeros) for at most `sweeps`
-/// sweeps, stopping early once a sweep changes no impulse by more than [`CONVERGED`] of the
+/// sweeps, contact by contact (its normal row, then its two tangents together), stopping early once a sweep changes no impulse by more than [`CONVERGED`] of the
 /// largest; returns the sweeps made.
 pub(crate) fn projected_gauss_seidel(
     problem: &ContactProblem,
@@ -40,50 +45,79 @@ pub(crate) fn projected_gauss_seidel(
     // Warm starts come from last step's contacts: fit them to this step's cone first.
     for contact in lambda.chunks_exact_mut(3) {
         contact[0] = contact[0].max(0.0);
-        let bound = problem.friction * contact[0];
-        for tangent in &mut contact[1..] {
-            *tangent = tangent.clamp(-bound, bound);
-        }
+        within_cone(contact, problem.friction);
     }
+    // Row r's relative velocity with the impulses as they stand (D is symmetric: row r is
+    // column r).
+    let velocity = |r: usize, lambda: &[f64]| {
+        problem.free[r]
+            + problem.delassus[r * rows..(r + 1) * rows]
+                .iter()
+                .zip(lambda)
+                .map(|(d, l)| d * l)
+                .sum::<f64>()
+    };
+    let entry = |r: usize, c: usize| problem.delassus[r * rows + c];
     for sweep in 1..=sweeps {
         let (mut change, mut largest) = (0.0f64, 0.0f64);
-        for r in 0..rows {
-            let column = &problem.delassus[r * rows..(r + 1) * rows];
-            let diagonal = column[r];
-            if diagonal <= 0.0 {
-                continue;
+        for normal in (0..rows).step_by(3) {
+            // The normal row, softened; a row no impulse can move keeps its impulse.
+            let diagonal = entry(normal, normal);
+            if diagonal > 0.0 {
+                let compliance = problem.softness * diagonal;
+                let error =
+                    velocity(normal, lambda) + compliance * lambda[normal] - problem.target[normal];
+                let value = (lambda[normal] - error / (diagonal + compliance)).max(0.0);
+                change = change.max((value - lambda[normal]).abs());
+                largest = largest.max(value);
+                lambda[normal] = value;
             }
-            let normal = r - r % 3;
-            // Friction rows stay stiff: a compliant tangent would let a held object creep.
-            let compliance = if r == normal {
-                problem.softness * diagonal
+            // The two tangents together, stiff (a compliant tangent would let a held object
+            // creep): the impulse that stops both at once, K⁻¹ times their velocities, K their
+            // 2×2 block of D (rapier's central-friction solve: one tangent at a time, an
+            // anisotropic K turns the impulse between them from sweep to sweep), then brought
+            // into the cone. A singular K (one tangent nothing can move along) is solved row by
+            // row.
+            let (t1, t2) = (normal + 1, normal + 2);
+            let before = [lambda[t1], lambda[t2]];
+            let (k11, k12, k22) = (entry(t1, t1), entry(t1, t2), entry(t2, t2));
+            let determinant = k11 * k22 - k12 * k12;
+            if determinant > 1e-12 * (k11 * k22).max(f64::MIN_POSITIVE) {
+                let e1 = velocity(t1, lambda) - problem.target[t1];
+                let e2 = velocity(t2, lambda) - problem.target[t2];
+                lambda[t1] -= (k22 * e1 - k12 * e2) / determinant;
+                lambda[t2] -= (k11 * e2 - k12 * e1) / determinant;
             } else {
-                0.0
-            };
-            // D is symmetric: row r is column r.
-            let velocity = problem.free[r]
-                + compliance * lambda[r]
-                + column
-                    .iter()
-                    .zip(lambda.iter())
-                    .map(|(d, l)| d * l)
-                    .sum::<f64>();
-            let value = lambda[r] - (velocity - problem.target[r]) / (diagonal + compliance);
-            let value = if r == normal {
-                value.max(0.0)
-            } else {
-                let bound = problem.friction * lambda[normal];
-                value.clamp(-bound, bound)
-            };
-            change = change.max((value - lambda[r]).abs());
-            largest = largest.max(value.abs());
-            lambda[r] = value;
+                for t in [t1, t2] {
+                    let diagonal = entry(t, t);
+                    if diagonal > 0.0 {
+                        lambda[t] -= (velocity(t, lambda) - problem.target[t]) / diagonal;
+                    }
+                }
+            }
+            within_cone(&mut lambda[normal..normal + 3], problem.friction);
+            for (t, before) in [t1, t2].into_iter().zip(before) {
+                change = change.max((lambda[t] - before).abs());
+                largest = largest.max(lambda[t].abs());
+            }
         }
         if change <= CONVERGED * largest {
             return sweep;
         }
     }
     sweeps
+}
+
+/// Scales a contact's tangent impulses `contact[1..3]` back onto the disk of radius
+/// `friction · contact[0]` when they lie beyond it, keeping their direction.
+fn within_cone(contact: &mut [f64], friction: f64) {
+    let bound = friction * contact[0];
+    let length = contact[1].hypot(contact[2]);
+    if length > bound {
+        let scale = if length > 0.0 { bound / length } else { 0.0 };
+        contact[1] *= scale;
+        contact[2] *= scale;
+    }
 }
 
 #[cfg(test)]
@@ -111,6 +145,80 @@ mod tests {
         assert_eq!(solve([-1.0, 0.2, 0.0]), [1.0, -0.2, 0.0]);
         assert_eq!(solve([1.0, 0.2, 0.0]), [0.0, 0.0, 0.0]);
         assert_eq!(solve([-1.0, 2.0, 0.0]), [1.0, -0.5, 0.0]);
+    }
+
+    /// Friction is the same in every direction along the surface: pushed sideways too hard, a
+    /// point slides with a friction impulse of μ λₙ whichever way the push points in the
+    /// tangents' frame, opposite the push. (Each tangent clamped on its own, the diagonal push
+    /// met √2 μ λₙ.) And a tangent along which nothing can move does not keep the other past
+    /// the cone.
+    #[test]
+    fn friction_is_isotropic() {
+        let solve = |delassus: &[f64; 9], free: [f64; 3]| {
+            let mut lambda = [0.0; 3];
+            let problem = ContactProblem {
+                delassus,
+                free: &free,
+                target: &[0.0; 3],
+                friction: 0.5,
+                softness: 0.0,
+            };
+            projected_gauss_seidel(&problem, 20, &mut lambda);
+            lambda
+        };
+        let unit = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
+        for degrees in [0.0f64, 30.0, 45.0, 60.0, 90.0, 135.0] {
+            let (s, c) = degrees.to_radians().sin_cos();
+            let lambda = solve(&unit, [-1.0, 2.0 * c, 2.0 * s]);
+            assert!((lambda[0] - 1.0).abs() < 1e-12, "{degrees}°: {lambda:?}");
+            assert!(
+                (lambda[1].hypot(lambda[2]) - 0.5).abs() < 1e-12,
+                "{degrees}°: {lambda:?}"
+            );
+            assert!(
+                (lambda[1] * s - lambda[2] * c).abs() < 1e-12,
+                "{degrees}°: opposite the push, {lambda:?}"
+            );
+        }
+        // The second tangent cannot move (zero diagonal) and keeps what the warm start left it.
+        let stuck = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0];
+        let mut lambda = [1.0, 0.0, 2.0];
+        let problem = ContactProblem {
+            delassus: &stuck,
+            free: &[-1.0, 2.0, 0.0],
+            target: &[0.0; 3],
+            friction: 0.5,
+            softness: 0.0,
+        };
+        projected_gauss_seidel(&problem, 20, &mut lambda);
+        assert!(
+            lambda[1].hypot(lambda[2]) <= 0.5 * lambda[0] + 1e-12,
+            "{lambda:?}"
+        );
+    }
+
+    /// A contact that sticks stops along both tangents in one sweep, even where pushing along
+    /// one tangent moves it along the other (an anisotropic tangent block).
+    #[test]
+    fn a_sticking_contact_stops_in_both_tangents_at_once() {
+        let delassus = [1.0, 0.0, 0.0, 0.0, 2.0, 0.5, 0.0, 0.5, 1.0];
+        let free = [-1.0, 0.1, 0.05];
+        let mut lambda = [0.0; 3];
+        let problem = ContactProblem {
+            delassus: &delassus,
+            free: &free,
+            target: &[0.0; 3],
+            friction: 1.0,
+            softness: 0.0,
+        };
+        projected_gauss_seidel(&problem, 1, &mut lambda);
+        for t in [1, 2] {
+            let velocity = free[t] + (0..3).map(|k| delassus[t * 3 + k] * lambda[k]).sum::<f64>();
+            assert!(
+                velocity.abs() < 1e-12,
+                "tangent {t}: {velocity} ({lambda:?})"
+            );
+        }
     }
 
     /// Two contacts sharing a body converge to the impulses a direct solve gives.

@@ -21,7 +21,8 @@
 //!    by block (under the held palm each finger is its own tree, so M is block diagonal);
 //! 5. the object's free velocity under gravity; the Delassus matrix of hand and object; the
 //!    impulses by projected Gauss–Seidel ([`crate::projected_gauss_seidel`]), warm-started from
-//!    each capsule's impulses of the step before, contacts speculative within a millimetre
+//!    each capsule's impulses of the step before, friction within Coulomb's cone (the two
+//!    tangents solved together), contacts speculative within a millimetre
 //!    (a gap may close in one step, no more), penetration pushed out over MuJoCo's 20 ms time
 //!    constant, normal rows softened as MuJoCo's, sweeps stopping once the impulses settle;
 //! 6. velocities updated, angles and the object integrated (semi-implicit Euler; a ball joint's

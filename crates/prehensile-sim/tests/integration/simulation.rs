@@ -364,11 +364,11 @@ fn hand_file_options(path: &str, objects: &[&str]) -> Options {
 
 #[test]
 fn the_hand_lifts_a_light_sphere_and_carries_it() {
-    // The slip on each engine (session 47): reduced 14.9 mm, rapier 7.0 mm. Rapier's figure
-    // depends on the mass it gives the intermediate body of each two-axis joint, which the hand
-    // model does not have (2.7 mm at 0.3 of the bone's mass), the reduced engine's on nothing
-    // outside the model (14.1–14.9 mm at dt 0.2–1 ms).
-    for (engine, most_slip) in [(Engine::Reduced, 0.02), (Engine::Rapier, 0.01)] {
+    // The slip on each engine: reduced 10.2 mm (14.9 mm while its friction held each tangent
+    // to ±μλ on its own, before session 48), rapier 7.0 mm. Rapier's figure depends on the mass
+    // it gives the intermediate body of each two-axis joint, which the hand model does not have
+    // (2.7 mm at 0.3 of the bone's mass), the reduced engine's on nothing outside the model.
+    for (engine, most_slip) in [(Engine::Reduced, 0.013), (Engine::Rapier, 0.01)] {
         let mut options = options(&["sphere"], 0.5);
         options.settings.engine = engine;
         let (report, _) = scenarios::run(Scenario::Grasp, &options, &mut |_, _| {}).unwrap();
@@ -727,9 +727,11 @@ fn the_grasp_scenario_plans_with_the_worlds_friction_and_the_simulation_judges_t
 #[test]
 fn the_shadow_hand_holds_sphere_box_and_cylinder_once_each_grasp_is_checked() {
     // The default run's box grasp from the default shoulder (the only one its seeds give)
-    // seats the box 30 mm toward the palm in the first second after let-go, and the run's slip
+    // seated the box 30 mm toward the palm in the first second after let-go, and the run's slip
     // was 32.3 mm (30 allowed). Each grasp is now held against gravity in the simulation before
-    // its run, and the next shoulder's grasp is searched when it does not hold.
+    // its run, and the next shoulder's grasp is searched when it does not hold. (Since friction
+    // is the same in every direction, session 48, the default shoulder's box grasp holds; the
+    // robot3_ball test below has a first shoulder that does not.)
     let objects = ["sphere", "box", "cylinder"];
     let options = hand_file_options("assets/hands/shadow_hand/reach.xml", &objects);
     let (report, _) = scenarios::run(Scenario::Grasp, &options, &mut |_, _| {}).unwrap();
@@ -742,10 +744,6 @@ fn the_shadow_hand_holds_sphere_box_and_cylinder_once_each_grasp_is_checked() {
     }
     let box_case = &report.cases[1];
     assert_eq!(box_case.metrics["hold_check_held"], 1.0, "{box_case:?}");
-    assert_ne!(
-        box_case.metrics["hold_check_shoulder_turn_deg"], 0.0,
-        "{box_case:?}"
-    );
 
     // One candidate: the default shoulder's grasp, run unchecked.
     let unchecked = Options {
@@ -761,6 +759,23 @@ fn the_shadow_hand_holds_sphere_box_and_cylinder_once_each_grasp_is_checked() {
         );
         assert!(!case.metrics.contains_key("hold_check_held"), "{case:?}");
     }
+}
+
+#[test]
+fn a_grasp_that_fails_the_hold_check_gives_way_to_another_shoulders() {
+    // The ball-jointed claw's cylinder grasps from the default shoulder and from 30° one way
+    // drop it in the hold check; the one from 30° the other way holds, and the run lifts with it.
+    let options = hand_file_options("assets/hands/robot3_ball.toml", &["cylinder"]);
+    let (report, _) = scenarios::run(Scenario::Grasp, &options, &mut |_, _| {}).unwrap();
+    let case = &report.cases[0];
+    assert_eq!(case.metrics["hold_check_held"], 1.0, "{case:?}");
+    assert_eq!(case.metrics["hold_check_tried"], 3.0, "{case:?}");
+    assert_eq!(
+        case.metrics["hold_check_shoulder_turn_deg"], -30.0,
+        "{case:?}"
+    );
+    assert_eq!(case.held, Some(true), "{case:?}");
+    assert!(case.metrics["object_rise_m"] > 0.08, "{case:?}");
 }
 
 #[test]
