@@ -124,22 +124,38 @@ fn within_cone(contact: &mut [f64], friction: f64) {
 mod tests {
     use super::*;
 
+    /// The unit Delassus matrix of one contact.
+    const UNIT: [f64; 9] = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
+
+    /// Relaxes `lambda` against `delassus` and `free` (targets 0) for at most `sweeps` sweeps;
+    /// returns the sweeps made.
+    fn relax(
+        delassus: &[f64],
+        free: &[f64],
+        friction: f64,
+        softness: f64,
+        sweeps: usize,
+        lambda: &mut [f64],
+    ) -> usize {
+        let target = vec![0.0; free.len()];
+        let problem = ContactProblem {
+            delassus,
+            free,
+            target: &target,
+            friction,
+            softness,
+        };
+        projected_gauss_seidel(&problem, sweeps, lambda)
+    }
+
     /// A point on a table: one contact, unit Delassus. Pressed down at 1 m/s it gets exactly the
     /// impulse that stops it; pulled away it gets none; pushed sideways harder than friction
     /// allows, it slides with the tangent impulse at the cone's edge.
     #[test]
     fn one_contact_stops_separates_and_slides() {
-        let delassus = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
         let solve = |free: [f64; 3]| {
             let mut lambda = [0.0; 3];
-            let problem = ContactProblem {
-                delassus: &delassus,
-                free: &free,
-                target: &[0.0; 3],
-                friction: 0.5,
-                softness: 0.0,
-            };
-            projected_gauss_seidel(&problem, 5, &mut lambda);
+            relax(&UNIT, &free, 0.5, 0.0, 5, &mut lambda);
             lambda
         };
         assert_eq!(solve([-1.0, 0.2, 0.0]), [1.0, -0.2, 0.0]);
@@ -154,22 +170,10 @@ mod tests {
     /// the cone.
     #[test]
     fn friction_is_isotropic() {
-        let solve = |delassus: &[f64; 9], free: [f64; 3]| {
-            let mut lambda = [0.0; 3];
-            let problem = ContactProblem {
-                delassus,
-                free: &free,
-                target: &[0.0; 3],
-                friction: 0.5,
-                softness: 0.0,
-            };
-            projected_gauss_seidel(&problem, 20, &mut lambda);
-            lambda
-        };
-        let unit = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
         for degrees in [0.0f64, 30.0, 45.0, 60.0, 90.0, 135.0] {
             let (s, c) = degrees.to_radians().sin_cos();
-            let lambda = solve(&unit, [-1.0, 2.0 * c, 2.0 * s]);
+            let mut lambda = [0.0; 3];
+            relax(&UNIT, &[-1.0, 2.0 * c, 2.0 * s], 0.5, 0.0, 20, &mut lambda);
             assert!((lambda[0] - 1.0).abs() < 1e-12, "{degrees}°: {lambda:?}");
             assert!(
                 (lambda[1].hypot(lambda[2]) - 0.5).abs() < 1e-12,
@@ -183,14 +187,7 @@ mod tests {
         // The second tangent cannot move (zero diagonal) and keeps what the warm start left it.
         let stuck = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0];
         let mut lambda = [1.0, 0.0, 2.0];
-        let problem = ContactProblem {
-            delassus: &stuck,
-            free: &[-1.0, 2.0, 0.0],
-            target: &[0.0; 3],
-            friction: 0.5,
-            softness: 0.0,
-        };
-        projected_gauss_seidel(&problem, 20, &mut lambda);
+        relax(&stuck, &[-1.0, 2.0, 0.0], 0.5, 0.0, 20, &mut lambda);
         assert!(
             lambda[1].hypot(lambda[2]) <= 0.5 * lambda[0] + 1e-12,
             "{lambda:?}"
@@ -204,14 +201,7 @@ mod tests {
         let delassus = [1.0, 0.0, 0.0, 0.0, 2.0, 0.5, 0.0, 0.5, 1.0];
         let free = [-1.0, 0.1, 0.05];
         let mut lambda = [0.0; 3];
-        let problem = ContactProblem {
-            delassus: &delassus,
-            free: &free,
-            target: &[0.0; 3],
-            friction: 1.0,
-            softness: 0.0,
-        };
-        projected_gauss_seidel(&problem, 1, &mut lambda);
+        relax(&delassus, &free, 1.0, 0.0, 1, &mut lambda);
         for t in [1, 2] {
             let velocity = free[t] + (0..3).map(|k| delassus[t * 3 + k] * lambda[k]).sum::<f64>();
             assert!(
@@ -233,14 +223,7 @@ mod tests {
         delassus[3 * 6] = 0.5;
         let free = [-2.0, 0.0, 0.0, -2.0, 0.0, 0.0];
         let mut lambda = [0.0; 6];
-        let problem = ContactProblem {
-            delassus: &delassus,
-            free: &free,
-            target: &[0.0; 6],
-            friction: 1.0,
-            softness: 0.0,
-        };
-        let sweeps = projected_gauss_seidel(&problem, 60, &mut lambda);
+        let sweeps = relax(&delassus, &free, 1.0, 0.0, 60, &mut lambda);
         // Both contacts stop: [1 ½; ½ 1] λ = [2 2], λ = [4/3 4/3]. The sweeps stop once they
         // change the impulses by a millionth: well before 60, and that near.
         assert!(sweeps < 20, "{sweeps} sweeps");
@@ -263,14 +246,7 @@ mod tests {
         let free = [-1.0, 0.0, 0.0, -1.0, 0.0, 0.0];
         let solve = |softness: f64, sweeps: usize| {
             let mut lambda = [0.0; 6];
-            let problem = ContactProblem {
-                delassus: &delassus,
-                free: &free,
-                target: &[0.0; 6],
-                friction: 1.0,
-                softness,
-            };
-            projected_gauss_seidel(&problem, sweeps, &mut lambda);
+            relax(&delassus, &free, 1.0, softness, sweeps, &mut lambda);
             lambda[0]
         };
         assert!(
