@@ -5,8 +5,8 @@
 //! friction cone: a disk of radius μ λₙ, as MuJoCo's elliptic cones and rapier keep it. (Each
 //! tangent clamped to ±μ λₙ on its own, a pyramid, lets the contact hold √2 times as hard along
 //! the diagonal of two tangents that are only an arbitrary frame: a squeezed 5 g sphere stuck to
-//! fingers that then rolled it 17–24 mm out of place, where with the disk it rests 9–11 mm on, as
-//! in MuJoCo; docs/QUALITY.md, session 48.) Written by hand: the contact rows of one step are a
+//! fingers that then rolled it 17–24 mm out of place; with the disk it rests 9–11 mm on, and
+//! holds as in MuJoCo and rapier; docs/QUALITY.md, session 48.) Written by hand: the contact rows of one step are a
 //! dense system of a few dozen rows, and no crate solves this complementarity problem on a dense
 //! matrix without building its own scene.
 
