@@ -1,14 +1,14 @@
 //! Contact impulses by projected Gauss–Seidel (Erleben, *Velocity-based shock propagation for
-//! multibody dynamics animation*, 2007; the solver of ODE, Bullet and rapier): each contact's
-//! three rows (normal, two tangents) are relaxed in turn against the Delassus matrix, the normal
-//! impulse kept non-negative and the two tangents' impulse, as a vector, within Coulomb's
-//! friction cone: a disk of radius μ λₙ, as MuJoCo's elliptic cones and rapier keep it. (Each
-//! tangent clamped to ±μ λₙ on its own, a pyramid, lets the contact hold √2 times as hard along
+//! multibody dynamics animation*, 2007; the solver of ODE, Bullet and rapier): contact by contact,
+//! the normal row is relaxed against the Delassus matrix and kept non-negative, then the two
+//! tangent rows together (their 2×2 block, as rapier solves them), their impulse as a vector kept
+//! within Coulomb's friction cone: a disk of radius μ λₙ, as MuJoCo's elliptic cones and rapier
+//! keep it. (Each tangent clamped to ±μ λₙ on its own, a pyramid, holds √2 times as hard along
 //! the diagonal of two tangents that are only an arbitrary frame: a squeezed 5 g sphere stuck to
-//! fingers that then rolled it 17–24 mm out of place; with the disk it rests 9–11 mm on, and
-//! holds as in MuJoCo and rapier; docs/QUALITY.md, session 48.) Written by hand: the contact rows of one step are a
-//! dense system of a few dozen rows, and no crate solves this complementarity problem on a dense
-//! matrix without building its own scene.
+//! fingers that then rolled it 17–24 mm out of place; with the disk it rests 9–11 mm on and holds,
+//! as in MuJoCo and rapier; docs/QUALITY.md, session 48.) Written by hand: the contact rows of
+//! one step are a dense system of a few dozen rows, and no crate solves this complementarity
+//! problem on a dense matrix without building its own scene.
 
 /// A sweep that changes no impulse by more than this share of the largest ends the solve.
 pub(crate) const CONVERGED: f64 = 1e-6;
