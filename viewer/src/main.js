@@ -65,6 +65,8 @@ async function main() {
   const boneGroup = new THREE.Group();
   objectGroup.add(boneGroup);
   let skinned = null;
+  // The result the picture shows (drawn at the animation frame after it came).
+  let drawn = null;
   const shoulderBall = new THREE.Mesh(new THREE.SphereGeometry(0.015), new THREE.MeshStandardMaterial({ color: 0xf08c00 }));
   scene.add(shoulderBall);
   const drag = new TransformControls(camera, renderer.domElement);
@@ -186,10 +188,12 @@ async function main() {
     worker.postMessage({ type: 'shoulder', position: state.shoulder });
   }
   // How well the skinned mesh follows the hand: the median distance, metres, from its posed
-  // vertices to the surface of the nearest of the result's capsules (object frame), over every
+  // vertices to the surface of the nearest of the drawn result's capsules (object frame), over every
   // 7th vertex; null without a skinned hand.
   window.prehensile.skinDistance = () => {
-    if (!skinned?.mesh.visible || !state.result) return null;
+    // Against the result the picture shows, whose pose the bones hold: `state.result` may be
+    // a newer one from the worker, drawn only at the next animation frame.
+    if (!skinned?.mesh.visible || !drawn) return null;
     objectGroup.updateMatrixWorld(true);
     const toObject = objectGroup.matrixWorld.clone().invert();
     const geometry = skinned.mesh.geometry;
@@ -199,7 +203,7 @@ async function main() {
       skinned.mesh.applyBoneTransform(i, v);
       v.applyMatrix4(toObject);
       let best = Infinity;
-      for (const c of state.result.capsules) {
+      for (const c of drawn.capsules) {
         const a = new THREE.Vector3(...c.a);
         const ab = new THREE.Vector3(...c.b).sub(a);
         const t = Math.min(1, Math.max(0, v.clone().sub(a).dot(ab) / Math.max(ab.lengthSq(), 1e-18)));
@@ -260,6 +264,7 @@ async function main() {
   }
 
   function drawResult(r) {
+    drawn = r;
     handGroup.traverse((o) => o.geometry?.dispose());
     handGroup.clear();
     // The skin is this session's hand's: a saved result of another hand shows its capsules.

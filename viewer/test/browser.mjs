@@ -173,6 +173,20 @@ try {
   // The bones pose the skin where the hand is: its vertices lie near the capsules' surfaces
   // (the radii are the 25th percentile of the skin's distances to each bone).
   assert.ok(webxr.distance < 0.006, `the skin is ${webxr.distance} m from the capsules`);
+  // It measures the picture as drawn: a newer result from the worker, drawn only at the next
+  // animation frame, does not count against the skin (on a busy CI machine it once read 11 mm
+  // so). A result moved 1 cm and not drawn leaves the distance as it was.
+  const undrawn = await page.evaluate(() => {
+    const p = window.prehensile;
+    const real = p.state.result;
+    const before = p.skinDistance();
+    const shift = (q) => [q[0] + 0.01, q[1], q[2]];
+    p.state.result = { ...real, capsules: real.capsules.map((c) => ({ ...c, a: shift(c.a), b: shift(c.b) })) };
+    const after = p.skinDistance();
+    p.state.result = real;
+    return { before, after };
+  });
+  assert.equal(undrawn.after, undrawn.before, 'the skin is measured against the result drawn');
   await page.screenshot({ path: `${out}/viewer-skinned-hand.png` });
   assert.ok((await colours()) > 50);
   console.log(`the skinned WebXR hand grasps; its posed skin is a median ${(webxr.distance * 1000).toFixed(1)} mm from the capsules`);
