@@ -104,6 +104,6 @@ fn glb(input: &Input) -> Vec<u8> {
 
 libfuzzer_sys::fuzz_target!(|input: Input| {
     let bytes = glb(&input);
-    let _ = prehensile_formats::fuzz_entry::run("mesh_gltf", &bytes);
-    let _ = prehensile_formats::fuzz_entry::run("hand_gltf", &bytes);
+    let _ = prehensile_testkit::fuzz_entry::run("mesh_gltf", &bytes);
+    let _ = prehensile_testkit::fuzz_entry::run("hand_gltf", &bytes);
 });

@@ -2,5 +2,5 @@
 #![no_main]
 
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
-    let _ = prehensile_formats::fuzz_entry::run("mesh_obj", data);
+    let _ = prehensile_testkit::fuzz_entry::run("mesh_obj", data);
 });

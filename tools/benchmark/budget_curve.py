@@ -9,7 +9,7 @@ contact normal; the same linear program as grasp_survey.py), how far the quality
 the unbudgeted search's where both chose the same movement (qualities of different movements
 are different formulas; median and worst, in the units of the result's `quality`), and the
 medians of the request's search time (all its movements, as the CLI prints it) and of the whole
-run's wall time (docs/PERFORMANCE.md, session 33).
+run's wall time (docs/PERFORMANCE.md).
 
     cargo build --release -p prehensile-cli
     python3 tools/benchmark/budget_curve.py [--cli BIN] [--movement auto] [--threads N]

@@ -1,5 +1,5 @@
 """The Shadow hand gripping a sphere in MuJoCo and in Prehensile, timed per step in alternating
-blocks, reported as a ratio of steps per second (issue 5, docs/PERFORMANCE.md).
+blocks, reported as a ratio of steps per second (docs/PERFORMANCE.md).
 
 The scene on both sides: the Shadow hand fixture (`assets/hands/shadow_hand/reach.xml`), the palm
 held still, the fingers closed by stiff joint servos on a 4 cm sphere of 20 kg/m^3 (Prehensile's

@@ -340,8 +340,8 @@ def main():
     ap.add_argument("--grasp-args", default="",
                     help="more options for `prehensile grasp`, e.g. '--weights 5,1,0,1,2'")
     ap.add_argument("--hull-only", action="store_true",
-                    help="collide each object as one convex hull, as before session 13 (the "
-                         "torus and the mug then lose their hole and cup)")
+                    help="collide each object as one convex hull instead of its convex "
+                         "decomposition (the torus and the mug then lose their hole and cup)")
     ap.add_argument("--stiff-friction", action="store_true",
                     help="elliptic friction cones and impratio 10, MuJoCo's advice against slip "
                          "(default: the Shadow file's pyramidal cones, impratio 1)")

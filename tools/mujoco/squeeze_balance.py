@@ -1,6 +1,6 @@
 """Does a quasi-static squeeze balance predict which Shadow-hand grasps MuJoCo holds?
 
-An experiment behind docs/QUALITY.md (session 10), kept so that it can be rerun. For each grasp
+An experiment behind docs/QUALITY.md, kept so that it can be rerun. For each grasp
 that `replay_grasps.py` replays, the contact forces the squeeze produces are estimated from the
 hand's own actuation: the squeeze torques (0.2 rad times kp = 1 N·m/rad along the movement's
 closing direction) are carried by the contacts' normal forces through MuJoCo's contact Jacobians
@@ -8,7 +8,7 @@ closing direction) are carried by the contacts' normal forces through MuJoCo's c
 ratio 1.14). Friction (mu 0.5, 8-sided cones) may then absorb what the normal forces leave
 unbalanced; the residual wrench that friction cannot absorb, over the normal forces' sum, is 0
 for a grasp in equilibrium under its own squeeze. The script prints it beside the number of
-directions MuJoCo held. In session 10 it did not separate the grasps that held from those that
+directions MuJoCo held. Measured, it did not separate the grasps that held from those that
 did not (a residual of 0.06 held in 3 directions, 0.73 held in 5).
 
 Run from the repository root, as replay_grasps.py (pip install mujoco==4.0.0 numpy scipy):

@@ -13,6 +13,6 @@ cargo build --release --target wasm32-unknown-unknown -p prehensile-wasm
 wasm-bindgen --target web --out-dir viewer/pkg \
   target/wasm32-unknown-unknown/release/prehensile_wasm.wasm
 (cd viewer && npm ci --no-audit --no-fund --silent && npm run bundle --silent)
-rm -f viewer/dist/prehensile_wasm_bg.wasm # inlined in main.js since session 10
+rm -f viewer/dist/prehensile_wasm_bg.wasm # the page inlines it in main.js
 cp viewer/index.html viewer/dist/
 echo "viewer built: serve viewer/dist (e.g. python3 -m http.server -d viewer/dist) and open it"

@@ -13,8 +13,9 @@ use parquet::arrow::{ArrowWriter, ProjectionMask};
 use parquet::basic::Compression;
 use parquet::file::properties::WriterProperties;
 
+use crate::error::{BatchError, DatasetProblem};
 use crate::row::{columns, schema, to_record_batch};
-use crate::{AttemptRow, BatchError, BatchPlan, RowKey};
+use crate::{AttemptRow, BatchPlan, RowKey};
 
 /// The `schema` field of every manifest this version writes.
 pub const DATASET_SCHEMA: &str = "prehensile.batch/1";
@@ -76,32 +77,40 @@ pub struct Dataset {
     next_part: u32,
 }
 
-fn io(path: &Path, e: impl std::fmt::Display) -> BatchError {
+fn io(path: &Path, source: std::io::Error) -> BatchError {
     BatchError::Io {
         path: path.display().to_string(),
-        reason: e.to_string(),
+        source,
     }
 }
 
-/// Writes `bytes` to `path` through a temporary file and a rename, so that `path` is whole or
-/// absent whatever happens.
-fn write_atomically(
-    path: &Path,
-    write: impl FnOnce(&File) -> Result<(), BatchError>,
-) -> Result<(), BatchError> {
-    let partial = path.with_file_name(format!(
-        ".{}{PARTIAL_SUFFIX}",
-        path.file_name().map_or("".into(), |n| n.to_string_lossy())
-    ));
-    let file = File::create(&partial).map_err(|e| io(&partial, e))?;
-    write(&file)?;
-    file.sync_all().map_err(|e| io(&partial, e))?;
-    std::fs::rename(&partial, path).map_err(|e| io(path, e))?;
-    if let Some(parent) = path.parent() {
-        // Make the rename itself durable; not every file system lets a folder be synced.
-        let _ = File::open(parent).and_then(|d| d.sync_all());
+fn parquet(path: &Path, source: parquet::errors::ParquetError) -> BatchError {
+    BatchError::Parquet {
+        path: path.display().to_string(),
+        source,
     }
-    Ok(())
+}
+
+fn arrow(path: &Path, source: arrow_schema::ArrowError) -> BatchError {
+    BatchError::Arrow {
+        path: path.display().to_string(),
+        source,
+    }
+}
+
+fn damaged(path: &Path, problem: DatasetProblem) -> BatchError {
+    BatchError::Damaged {
+        path: path.display().to_string(),
+        problem,
+    }
+}
+
+/// Writes `bytes` to `path` whole or not at all ([`prehensile_formats::write_atomically`]).
+fn write_whole(path: &Path, bytes: &[u8]) -> Result<(), BatchError> {
+    prehensile_formats::write_atomically(path, bytes).map_err(|e| BatchError::Output {
+        path: path.display().to_string(),
+        source: e,
+    })
 }
 
 impl Dataset {
@@ -124,40 +133,33 @@ impl Dataset {
         if manifest_path.is_file() {
             let text =
                 std::fs::read_to_string(&manifest_path).map_err(|e| io(&manifest_path, e))?;
-            let found: Manifest = serde_json::from_str(&text)
-                .map_err(|e| io(&manifest_path, format!("not a dataset manifest: {e}")))?;
+            let found: Manifest =
+                serde_json::from_str(&text).map_err(|source| BatchError::Manifest {
+                    path: manifest_path.display().to_string(),
+                    source,
+                })?;
             if found.schema != DATASET_SCHEMA {
-                return Err(io(
+                return Err(damaged(
                     &manifest_path,
-                    format!(
-                        "dataset schema '{}', this version writes '{DATASET_SCHEMA}'",
-                        found.schema
-                    ),
+                    DatasetProblem::Schema {
+                        found: found.schema,
+                        expected: DATASET_SCHEMA,
+                    },
                 ));
             }
             let differ = differences(&found.plan, plan);
             if !differ.is_empty() {
                 return Err(BatchError::ManifestMismatch {
                     folder: folder.display().to_string(),
-                    what: differ.join(", "),
+                    what: differ,
                 });
             }
         } else {
             if let Some(stranger) = entries.iter().find(|p| !name(p).ends_with(PARTIAL_SUFFIX)) {
-                return Err(io(
-                    folder,
-                    format!(
-                        "the folder is not empty ({} is there) and has no {MANIFEST}; choose an empty or new folder",
-                        name(stranger)
-                    ),
-                ));
+                return Err(damaged(folder, DatasetProblem::NotEmpty(name(stranger))));
             }
-            let text = serde_json::to_string_pretty(&wanted).map_err(|e| io(&manifest_path, e))?;
-            write_atomically(&manifest_path, |mut f| {
-                use std::io::Write;
-                f.write_all(text.as_bytes())
-                    .map_err(|e| io(&manifest_path, e))
-            })?;
+            let text = serde_json::to_string_pretty(&wanted).expect("a manifest always serializes");
+            write_whole(&manifest_path, text.as_bytes())?;
         }
         // A part cut short by a kill never got its final name: remove it, its rows are redone.
         for p in &entries {
@@ -173,13 +175,13 @@ impl Dataset {
         for part in dataset.parts()? {
             let number: u32 = name(&part)[PART_PREFIX.len()..name(&part).len() - PART_SUFFIX.len()]
                 .parse()
-                .map_err(|_| io(&part, "not a part name this version writes"))?;
+                .map_err(|_| damaged(&part, DatasetProblem::PartName))?;
             dataset.next_part = dataset.next_part.max(number + 1);
             for key in read_keys(&part)? {
                 if !done.insert(key.clone()) {
-                    return Err(io(
+                    return Err(damaged(
                         &part,
-                        format!("row {key:?} is in the dataset twice; the folder was edited"),
+                        DatasetProblem::Duplicate(format!("{key:?}")),
                     ));
                 }
             }
@@ -202,18 +204,16 @@ impl Dataset {
         let path = self
             .folder
             .join(format!("{PART_PREFIX}{:05}{PART_SUFFIX}", self.next_part));
-        let batch = to_record_batch(rows).map_err(|e| io(&path, e))?;
+        let batch = to_record_batch(rows).map_err(|e| arrow(&path, e))?;
         let properties = WriterProperties::builder()
             .set_compression(Compression::SNAPPY)
             .build();
-        write_atomically(&path, |f| {
-            let file = f.try_clone().map_err(|e| io(&path, e))?;
-            let mut writer =
-                ArrowWriter::try_new(file, schema(), Some(properties)).map_err(|e| io(&path, e))?;
-            writer.write(&batch).map_err(|e| io(&path, e))?;
-            writer.close().map_err(|e| io(&path, e))?;
-            Ok(())
-        })?;
+        let mut bytes = Vec::new();
+        let mut writer = ArrowWriter::try_new(&mut bytes, schema(), Some(properties))
+            .map_err(|e| parquet(&path, e))?;
+        writer.write(&batch).map_err(|e| parquet(&path, e))?;
+        writer.close().map_err(|e| parquet(&path, e))?;
+        write_whole(&path, &bytes)?;
         self.next_part += 1;
         Ok(path)
     }
@@ -252,31 +252,31 @@ fn differences(a: &BatchPlan, b: &BatchPlan) -> Vec<&'static str> {
 /// The keys of the rows in one part.
 fn read_keys(part: &Path) -> Result<Vec<RowKey>, BatchError> {
     let file = File::open(part).map_err(|e| io(part, e))?;
-    let builder = ParquetRecordBatchReaderBuilder::try_new(file).map_err(|e| io(part, e))?;
+    let builder = ParquetRecordBatchReaderBuilder::try_new(file).map_err(|e| parquet(part, e))?;
     let mask = ProjectionMask::roots(builder.parquet_schema(), [0, 1, 2, 3, 4]);
     let reader = builder
         .with_projection(mask)
         .build()
-        .map_err(|e| io(part, e))?;
+        .map_err(|e| parquet(part, e))?;
     let mut keys = Vec::new();
     for batch in reader {
-        let batch = batch.map_err(|e| io(part, e))?;
+        let batch = batch.map_err(|e| arrow(part, e))?;
         let text = |i: usize| {
             batch
                 .column(i)
                 .as_any()
                 .downcast_ref::<StringArray>()
-                .ok_or_else(|| io(part, format!("column {i} is not text")))
+                .ok_or_else(|| damaged(part, DatasetProblem::ColumnType(i)))
         };
         let (hand, object, movement, shoulder) = (text(0)?, text(1)?, text(2)?, text(3)?);
         let seed = batch
             .column(4)
             .as_any()
             .downcast_ref::<UInt64Array>()
-            .ok_or_else(|| io(part, "column seed is not u64"))?;
+            .ok_or_else(|| damaged(part, DatasetProblem::ColumnType(4)))?;
         for r in 0..batch.num_rows() {
             if hand.is_null(r) || object.is_null(r) || seed.is_null(r) {
-                return Err(io(part, format!("row {r} has no key")));
+                return Err(damaged(part, DatasetProblem::NoKey(r)));
             }
             keys.push(RowKey {
                 hand: hand.value(r).into(),
@@ -297,9 +297,9 @@ pub fn read_rows(folder: &Path) -> Result<Vec<RecordBatch>, BatchError> {
         let file = File::open(&part).map_err(|e| io(&part, e))?;
         let reader = ParquetRecordBatchReaderBuilder::try_new(file)
             .and_then(|b| b.build())
-            .map_err(|e| io(&part, e))?;
+            .map_err(|e| parquet(&part, e))?;
         for batch in reader {
-            out.push(batch.map_err(|e| io(&part, e))?);
+            out.push(batch.map_err(|e| arrow(&part, e))?);
         }
     }
     Ok(out)

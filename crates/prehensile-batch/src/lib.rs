@@ -13,40 +13,18 @@
 //! attempt) are rows with `status = "error"` and the message; they never stop the batch. Only
 //! the dataset itself failing (a full disk, a folder made with other inputs) stops it, with the
 //! rows written so far kept.
+#![deny(missing_docs)]
 
 mod dataset;
+mod error;
 mod plan;
 mod row;
 mod run;
 
 pub use dataset::{read_rows, ColumnDoc, Dataset, Manifest, DATASET_SCHEMA};
+pub use error::{BatchError, DatasetProblem, PlanError, MAX_SEEDS};
 pub use plan::{expand_objects, Attempt, BatchOptions, BatchPlan, Shoulder};
 pub use row::{
     columns, schema, to_record_batch, AttemptRow, AttemptStatus, RowKey, TIMING_COLUMNS,
 };
-pub use run::{run_batch, BatchProgress, BatchSummary};
-
-/// Why a batch stopped.
-#[derive(Debug, thiserror::Error)]
-#[non_exhaustive]
-pub enum BatchError {
-    /// The plan is unusable (no objects, a bad shoulder, an option out of range).
-    #[error("{0}")]
-    Plan(String),
-    /// The output folder holds a dataset made from other inputs.
-    #[error("{folder} holds a dataset made with other inputs ({what} differ); use another --out folder, or delete it to start over")]
-    ManifestMismatch {
-        /// The dataset folder.
-        folder: String,
-        /// Which inputs differ.
-        what: String,
-    },
-    /// Reading or writing the dataset failed (a full disk, no permission, a damaged part).
-    #[error("{path}: {reason}")]
-    Io {
-        /// The file.
-        path: String,
-        /// What went wrong.
-        reason: String,
-    },
-}
+pub use run::{run_batch, BatchProgress, BatchSummary, FLUSH_ROWS};

@@ -3,10 +3,12 @@
 use std::fmt;
 use std::path::Path;
 
-use prehensile_core::math::{Point3, Vec3};
 use prehensile_core::search::ValidityRule;
 
-use crate::BatchError;
+use prehensile_core::parameter::UpAxis;
+use prehensile_core::search::{defaults, GraspOptions};
+
+use crate::error::{PlanError, MAX_SEEDS};
 
 /// Mesh file extensions a folder of objects is searched for.
 const MESH_EXTENSIONS: [&str; 5] = ["obj", "stl", "ply", "glb", "gltf"];
@@ -23,7 +25,7 @@ pub enum Shoulder {
 
 impl Shoulder {
     /// Parses `default` or `X,Y,Z`.
-    pub fn parse(s: &str) -> Result<Self, BatchError> {
+    pub fn parse(s: &str) -> Result<Self, PlanError> {
         if s == "default" {
             return Ok(Self::Default);
         }
@@ -31,14 +33,12 @@ impl Shoulder {
             .split(',')
             .map(|v| v.trim().parse::<f64>())
             .collect::<Result<_, _>>()
-            .map_err(|_| BatchError::Plan(format!("shoulder '{s}': use default or X,Y,Z")))?;
+            .map_err(|_| PlanError::Shoulder(s.to_string()))?;
         match numbers.as_slice() {
             [x, y, z] if numbers.iter().all(|v| v.is_finite() && v.abs() <= 1e6) => {
                 Ok(Self::At([*x, *y, *z]))
             }
-            _ => Err(BatchError::Plan(format!(
-                "shoulder '{s}': use default or three finite numbers X,Y,Z (metres, at most 1e6)"
-            ))),
+            _ => Err(PlanError::Shoulder(s.to_string())),
         }
     }
 }
@@ -59,8 +59,8 @@ pub struct BatchOptions {
     pub scale: f64,
     /// Repair: merge vertices of mesh files closer than this many metres.
     pub weld: Option<f64>,
-    /// The world's up axis: `x`, `y` or `z`.
-    pub up: char,
+    /// The world's up axis.
+    pub up: UpAxis,
     /// Which grasps are valid.
     pub validity: ValidityRule,
     /// Coulomb friction of the contacts.
@@ -72,7 +72,7 @@ pub struct BatchOptions {
 }
 
 fn one_sided_patience() -> u32 {
-    prehensile_core::search::ONE_SIDED_PATIENCE
+    defaults::ONE_SIDED_PATIENCE
 }
 
 impl Default for BatchOptions {
@@ -80,24 +80,34 @@ impl Default for BatchOptions {
         Self {
             scale: 1.0,
             weld: None,
-            up: 'z',
-            validity: ValidityRule::default(),
-            friction: 0.5,
+            up: defaults::UP,
+            validity: defaults::VALIDITY,
+            friction: defaults::FRICTION,
             one_sided_patience: one_sided_patience(),
         }
     }
 }
 
 impl BatchOptions {
-    /// The up axis as a vector.
-    pub fn up_vector(&self) -> Result<Vec3, BatchError> {
-        match self.up {
-            'x' => Ok(Vec3::x()),
-            'y' => Ok(Vec3::y()),
-            'z' => Ok(Vec3::z()),
-            other => Err(BatchError::Plan(format!(
-                "up axis '{other}': use x, y or z"
-            ))),
+    /// The request of one attempt: every option of the batch, the attempt's own movement,
+    /// shoulder (`None`: the hand's default) and seed, one thread (the batch runs attempts side
+    /// by side instead).
+    pub fn grasp_options(
+        &self,
+        movement: &str,
+        shoulder: Option<[f64; 3]>,
+        seed: u64,
+    ) -> GraspOptions {
+        GraspOptions {
+            movement: movement.to_string(),
+            shoulder,
+            up: self.up,
+            seed,
+            threads: Some(1),
+            friction: self.friction,
+            validity: self.validity,
+            one_sided_patience: self.one_sided_patience,
+            ..GraspOptions::default()
         }
     }
 }
@@ -136,7 +146,7 @@ pub struct Attempt {
 
 impl BatchPlan {
     /// Checks the plan: every list non-empty, no name twice, options in range.
-    pub fn check(&self) -> Result<(), BatchError> {
+    pub fn check(&self) -> Result<(), PlanError> {
         let lists = [
             ("hands", self.hands.len()),
             ("objects", self.objects.len()),
@@ -144,48 +154,27 @@ impl BatchPlan {
             ("shoulders", self.shoulders.len()),
             ("seeds", self.seeds.len()),
         ];
-        for (what, n) in lists {
-            if n == 0 {
-                return Err(BatchError::Plan(format!("the batch has no {what}")));
-            }
+        if let Some((what, _)) = lists.iter().find(|(_, n)| *n == 0) {
+            return Err(PlanError::Empty(what));
         }
-        let repeated = |names: &[String]| {
-            names
-                .iter()
-                .enumerate()
-                .find(|(i, n)| names[..*i].contains(n))
-                .map(|(_, n)| n.clone())
-        };
+        if self.seeds.len() as u64 > MAX_SEEDS {
+            return Err(PlanError::Seeds(self.seeds.len() as u64));
+        }
+        let shoulders: Vec<String> = self.shoulders.iter().map(|s| s.to_string()).collect();
+        let seeds: Vec<String> = self.seeds.iter().map(|s| s.to_string()).collect();
         for (what, names) in [
             ("hand", &self.hands),
             ("object", &self.objects),
             ("movement", &self.movements),
+            ("shoulder", &shoulders),
+            ("seed", &seeds),
         ] {
-            if let Some(n) = repeated(names) {
-                return Err(BatchError::Plan(format!("{what} '{n}' is listed twice")));
+            if let Some(name) = repeated(names) {
+                return Err(PlanError::Repeated { what, name });
             }
         }
-        let shoulders: Vec<String> = self.shoulders.iter().map(|s| s.to_string()).collect();
-        let seeds: Vec<String> = self.seeds.iter().map(|s| s.to_string()).collect();
-        if let Some(n) = repeated(&shoulders).or_else(|| repeated(&seeds)) {
-            return Err(BatchError::Plan(format!("'{n}' is listed twice")));
-        }
-        if !(self.options.scale.is_finite() && self.options.scale > 0.0) {
-            return Err(BatchError::Plan(format!(
-                "scale {} must be a positive number",
-                self.options.scale
-            )));
-        }
-        if !(self.options.friction.is_finite()
-            && self.options.friction > 0.0
-            && self.options.friction <= 10.0)
-        {
-            return Err(BatchError::Plan(format!(
-                "friction {} must be in (0, 10]",
-                self.options.friction
-            )));
-        }
-        self.options.up_vector()?;
+        prehensile_core::parameter::in_range("scale", self.options.scale, 1e-9, 1e9, "")?;
+        self.options.grasp_options("auto", None, 1).params()?;
         Ok(())
     }
 
@@ -218,28 +207,28 @@ impl BatchPlan {
             * self.shoulders.len()
             * self.seeds.len()
     }
+}
 
-    /// The shoulder of `attempt` in the object's frame, given the object's hook and the hand's
-    /// default for it.
-    pub fn shoulder_point(&self, attempt: &Attempt, default: Point3) -> Point3 {
-        match self.shoulders[attempt.shoulder] {
-            Shoulder::Default => default,
-            Shoulder::At(p) => Point3::from(p),
-        }
-    }
+/// The first name of `names` that comes again later, if any.
+fn repeated(names: &[String]) -> Option<String> {
+    names
+        .iter()
+        .enumerate()
+        .find(|(i, n)| names[..*i].contains(n))
+        .map(|(_, n)| n.clone())
 }
 
 /// Expands object arguments: a folder becomes its mesh files (sorted, not recursive), a pattern
 /// with `*`, `?` or `[` its matches (sorted), anything else stays as given (a built-in name or a
 /// file). Fails on a folder or pattern that matches nothing.
-pub fn expand_objects(specs: &[String]) -> Result<Vec<String>, BatchError> {
+pub fn expand_objects(specs: &[String]) -> Result<Vec<String>, PlanError> {
     let mut out = Vec::new();
     for spec in specs {
         let path = Path::new(spec);
         if path.is_dir() {
-            let entries = std::fs::read_dir(path).map_err(|e| BatchError::Io {
-                path: spec.clone(),
-                reason: e.to_string(),
+            let entries = std::fs::read_dir(path).map_err(|e| PlanError::UnreadableFolder {
+                folder: spec.clone(),
+                kind: e.kind(),
             })?;
             let mut found: Vec<String> = entries
                 .filter_map(|e| e.ok())
@@ -248,23 +237,26 @@ pub fn expand_objects(specs: &[String]) -> Result<Vec<String>, BatchError> {
                 .map(|p| p.display().to_string())
                 .collect();
             if found.is_empty() {
-                return Err(BatchError::Plan(format!(
-                    "{spec}: the folder has no mesh files ({})",
-                    MESH_EXTENSIONS.join(", ")
-                )));
+                return Err(PlanError::EmptyFolder {
+                    folder: spec.clone(),
+                    extensions: &MESH_EXTENSIONS,
+                });
             }
             found.sort();
             out.extend(found);
         } else if spec.contains(['*', '?', '[']) {
-            let matches = glob::glob(spec)
-                .map_err(|e| BatchError::Plan(format!("{spec}: not a valid pattern: {e}")))?;
+            let matches = glob::glob(spec).map_err(|e| PlanError::Pattern {
+                pattern: spec.clone(),
+                position: e.pos,
+                problem: e.msg,
+            })?;
             let mut found: Vec<String> = matches
                 .filter_map(|m| m.ok())
                 .filter(|p| p.is_file())
                 .map(|p| p.display().to_string())
                 .collect();
             if found.is_empty() {
-                return Err(BatchError::Plan(format!("{spec}: matches no file")));
+                return Err(PlanError::NoMatch(spec.clone()));
             }
             found.sort();
             out.extend(found);

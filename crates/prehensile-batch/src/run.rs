@@ -8,14 +8,12 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{sync_channel, Receiver, RecvTimeoutError};
 use std::time::{Duration, Instant};
 
-use prehensile_core::math::Vec3;
-use prehensile_core::search::{default_shoulder, find_grasp, GraspRequest, SearchParams};
-use prehensile_core::stability::ContactModel;
+use prehensile_core::search::find_grasp;
 use prehensile_core::{HandModel, ObjectModel};
 use prehensile_formats::sources::{hand_from_spec, object_from_spec};
 use rayon::prelude::*;
 
-use crate::{Attempt, AttemptRow, AttemptStatus, BatchError, BatchPlan, Dataset, RowKey};
+use crate::{Attempt, AttemptRow, AttemptStatus, BatchError, BatchPlan, Dataset, RowKey, Shoulder};
 
 /// A part is written at least this often while rows come in, so that a kill loses little.
 const FLUSH_INTERVAL: Duration = Duration::from_secs(5);
@@ -51,6 +49,9 @@ pub struct BatchSummary {
     pub parts_written: usize,
 }
 
+/// Rows a batch writes into one part file by default ([`run_batch`]'s `flush_rows`).
+pub const FLUSH_ROWS: usize = 256;
+
 /// Runs every attempt of `plan` that the dataset in `folder` lacks, writing a part every
 /// `flush_rows` rows (and at least every few seconds). A failing attempt becomes an error row;
 /// only the dataset failing stops the run, keeping every part written.
@@ -61,7 +62,6 @@ pub fn run_batch(
     progress: &dyn BatchProgress,
 ) -> Result<BatchSummary, BatchError> {
     plan.check()?;
-    let up = plan.options.up_vector()?;
     let (dataset, done) = Dataset::open(folder, plan)?;
     let pending: Vec<Vec<Attempt>> = (0..plan.objects.len())
         .map(|o| {
@@ -108,7 +108,7 @@ pub fn run_batch(
                             return;
                         }
                         let row = match &object {
-                            Ok(object) => run_attempt(plan, a, &hands[a.hand], object, setup, up),
+                            Ok(object) => run_attempt(plan, a, &hands[a.hand], object, setup),
                             Err(e) => AttemptRow::failed(key(plan, a), e.clone(), setup),
                         };
                         // The writer hangs up only after an error, which it returns below.
@@ -142,32 +142,22 @@ fn run_attempt(
     hand: &Result<HandModel, String>,
     object: &ObjectModel,
     setup: f64,
-    up: Vec3,
 ) -> AttemptRow {
     let key = key(plan, attempt);
     let hand = match hand {
         Ok(h) => h,
         Err(e) => return AttemptRow::failed(key, e.clone(), setup),
     };
-    let hook = object.hooks()[0];
-    let request = GraspRequest {
-        movement: plan.movements[attempt.movement].clone(),
-        shoulder: plan.shoulder_point(attempt, default_shoulder(hand, &hook, &up)),
-        params: SearchParams {
-            seed: attempt.seed,
-            up,
-            validity: plan.options.validity,
-            one_sided_patience: plan.options.one_sided_patience,
-            contact_model: ContactModel {
-                friction: plan.options.friction,
-                ..ContactModel::default()
-            },
-            ..SearchParams::default()
-        },
-        budget: None,
+    let shoulder = match plan.shoulders[attempt.shoulder] {
+        Shoulder::Default => None,
+        Shoulder::At(p) => Some(p),
     };
+    let options =
+        plan.options
+            .grasp_options(&plan.movements[attempt.movement], shoulder, attempt.seed);
     let began = Instant::now();
     match catch_unwind(AssertUnwindSafe(|| {
+        let request = options.request(hand, object)?;
         find_grasp(hand, object, &request, &mut ())
     })) {
         Ok(Ok(result)) => AttemptRow::searched(key, result, setup, began.elapsed().as_secs_f64()),

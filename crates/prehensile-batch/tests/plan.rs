@@ -1,6 +1,6 @@
 //! Plans: shoulders, checks and object expansion.
 
-use prehensile_batch::{expand_objects, BatchError, BatchOptions, BatchPlan, Shoulder};
+use prehensile_batch::{expand_objects, BatchOptions, BatchPlan, PlanError, Shoulder};
 
 fn plan() -> BatchPlan {
     BatchPlan {
@@ -21,7 +21,7 @@ fn shoulders_parse_and_print_back() {
     assert_eq!(Shoulder::parse(&s.to_string()).unwrap(), s);
     for bad in ["", "1,2", "1,2,3,4", "nan,0,0", "1e300,0,0", "x,y,z"] {
         assert!(
-            matches!(Shoulder::parse(bad), Err(BatchError::Plan(_))),
+            matches!(Shoulder::parse(bad), Err(PlanError::Shoulder(_))),
             "{bad}"
         );
     }
@@ -43,6 +43,18 @@ fn a_plan_counts_its_attempts_and_refuses_empty_or_repeated_lists() {
     let mut friction = plan();
     friction.options.friction = f64::NAN;
     assert!(friction.check().is_err());
+    let mut seeds = plan();
+    seeds.seeds = vec![7, 7];
+    assert!(matches!(
+        seeds.check(),
+        Err(PlanError::Repeated { what: "seed", .. })
+    ));
+}
+
+#[test]
+fn a_manifest_keeps_the_up_axis_as_a_letter() {
+    let json = serde_json::to_value(BatchOptions::default()).unwrap();
+    assert_eq!(json["up"], "z");
 }
 
 #[test]
@@ -69,7 +81,7 @@ fn folders_and_patterns_expand_to_sorted_mesh_files() {
 
 #[test]
 fn a_plan_written_before_one_sided_patience_reads_with_its_default() {
-    // Session 27 added the option; a manifest from before it resumes with the default.
+    // A manifest from before the option existed resumes with its default.
     let mut json = serde_json::to_value(BatchOptions::default()).unwrap();
     json.as_object_mut().unwrap().remove("one_sided_patience");
     let read: BatchOptions = serde_json::from_value(json).unwrap();

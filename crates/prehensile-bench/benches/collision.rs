@@ -7,7 +7,7 @@ use std::hint::black_box;
 use criterion::{criterion_group, criterion_main, Criterion};
 use prehensile_core::finger_closing::{close_fingers, ClosingParams};
 use prehensile_core::math::{Point3, Transform, Vec3};
-use prehensile_core::search::random::SplitMix64;
+use prehensile_core::random::SplitMix64;
 use prehensile_core::search::translate_to_free::{hand_root, translate_to_free, TranslateMode};
 use prehensile_core::{shapes, Capsule, CollisionCounters, ObjectModel, Workspace};
 

@@ -2,31 +2,14 @@
 
 use std::path::PathBuf;
 
-use clap::{Args, Parser, Subcommand, ValueEnum};
-use prehensile_core::search::quality::STABILITY_WEIGHT;
-use prehensile_core::search::ValidityRule;
-
-/// Length unit of a mesh file.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum Units {
-    /// Millimetres.
-    Mm,
-    /// Centimetres.
-    Cm,
-    /// Metres.
-    M,
-}
-
-impl Units {
-    /// Metres per unit.
-    pub fn metres(self) -> f64 {
-        match self {
-            Units::Mm => 0.001,
-            Units::Cm => 0.01,
-            Units::M => 1.0,
-        }
-    }
-}
+use clap::{Args, Parser, Subcommand};
+use prehensile_batch::BatchOptions;
+use prehensile_core::parameter::UpAxis;
+use prehensile_core::search::{defaults, ValidityRule};
+use prehensile_formats::builtin::{DEFAULT_HAND, DEFAULT_OBJECT};
+use prehensile_formats::Units;
+use prehensile_sim::scenarios::{self, Scenario};
+use prehensile_sim::{Engine, Settings};
 
 /// Grasp poses for virtual hands on closed meshes.
 #[derive(Debug, Parser)]
@@ -77,14 +60,14 @@ pub struct ViewArgs {
 #[derive(Debug, Args)]
 pub struct BatchArgs {
     /// Hands: built-in names or hand files (space- or comma-separated).
-    #[arg(long, num_args = 1.., value_delimiter = ',', default_value = "human")]
+    #[arg(long, num_args = 1.., value_delimiter = ',', default_value = DEFAULT_HAND)]
     pub hands: Vec<String>,
     /// Objects: built-in names, mesh files, folders (their mesh files) or patterns such as
     /// 'scans/*.stl' (quoted).
-    #[arg(long, num_args = 1.., value_delimiter = ',', default_values_t = prehensile_core::shapes::BUILTIN_OBJECTS.map(String::from))]
+    #[arg(long, num_args = 1.., value_delimiter = ',', default_values_t = prehensile_formats::BUILTIN_OBJECTS.map(String::from))]
     pub objects: Vec<String>,
     /// Movements of the hands, or auto (try each, keep the best; a movement with nothing valid after 100 steps stops once another has found its grasp).
-    #[arg(long, num_args = 1.., value_delimiter = ',', default_value = "auto")]
+    #[arg(long, num_args = 1.., value_delimiter = ',', default_value = defaults::MOVEMENT)]
     pub movements: Vec<String>,
     /// Shoulders: default (the hand's default for the object) or X,Y,Z (space-separated).
     #[arg(long, num_args = 1.., default_value = "default", allow_hyphen_values = true)]
@@ -99,25 +82,25 @@ pub struct BatchArgs {
     #[command(flatten)]
     pub mesh_options: MeshOptions,
     /// The world's up axis: x, y or z.
-    #[arg(long, default_value = "z")]
-    pub up: String,
+    #[arg(long, default_value_t = BatchOptions::default().up)]
+    pub up: UpAxis,
     /// Coulomb friction coefficient the search assumes: force closure, ε, and how far the contact
-    /// normals must spread (78° at 0.5, 59.6° at 1). The default 0.5 is about half a grippy
+    /// normals must spread (78° at 0.5, 59.6° at 1). The default is about half a grippy
     /// world's friction; MuJoCo holds fewer grasps searched with the full friction (docs/QUALITY.md).
-    #[arg(long, default_value_t = 0.5)]
+    #[arg(long, default_value_t = BatchOptions::default().friction)]
     pub friction: f64,
     /// Which grasps are valid: holds, strict or thesis (see `prehensile grasp --help`).
-    #[arg(long, default_value_t = ValidityRule::default())]
+    #[arg(long, default_value_t = BatchOptions::default().validity)]
     pub validity: ValidityRule,
     /// Steps to go on looking past a power grasp whose contacts all push from one side (see
     /// `prehensile grasp --help`).
-    #[arg(long, default_value_t = prehensile_core::search::ONE_SIDED_PATIENCE)]
+    #[arg(long, default_value_t = BatchOptions::default().one_sided_patience)]
     pub one_sided_patience: u32,
     /// Worker threads (default: one per core).
     #[arg(long)]
     pub threads: Option<usize>,
     /// Write a part file every this many rows (and at least every 5 s).
-    #[arg(long, default_value_t = 256)]
+    #[arg(long, default_value_t = prehensile_batch::FLUSH_ROWS)]
     pub flush_rows: usize,
 }
 
@@ -125,31 +108,31 @@ pub struct BatchArgs {
 #[derive(Debug, Args)]
 pub struct SimulateArgs {
     /// drop, grasp, grip-sweep, handshake, open-close or shake.
-    #[arg(long, default_value = "grasp")]
-    pub scenario: String,
+    #[arg(long, default_value_t = scenarios::defaults::SCENARIO)]
+    pub scenario: Scenario,
     /// A built-in hand or a hand file (hinge, two-axis and ball joints; moving bones need mass).
-    #[arg(long, default_value = "human")]
+    #[arg(long, default_value = scenarios::defaults::HAND)]
     pub hand: String,
     /// Objects (comma-separated built-in names or mesh files); `grasp` grasps each with the
     /// controller fitted to the first, the others searched along that controller's closing
     /// (each case reports `searched_along_example_closing`: 0 when that found no valid grasp and
     /// the hand's own movement was searched instead).
-    #[arg(long, default_value = "sphere,box,cylinder")]
-    pub object: String,
+    #[arg(long, num_args = 1.., value_delimiter = ',', default_values_t = scenarios::defaults::OBJECTS.map(String::from))]
+    pub object: Vec<String>,
     /// Units, scale and repair of mesh files.
     #[command(flatten)]
     pub mesh_options: MeshOptions,
     /// Grip strength α (Eq. 15–16; the paper used 0 to 0.5).
-    #[arg(long, default_value_t = 0.5)]
+    #[arg(long, default_value_t = scenarios::defaults::ALPHA)]
     pub alpha: f64,
     /// Time step, seconds.
-    #[arg(long, default_value_t = 0.001)]
+    #[arg(long, default_value_t = Settings::default().dt)]
     pub dt: f64,
     /// The physics: `reduced` (each hand in its joint angles on Prehensile's own dynamics and
     /// contact solver; it follows the hand model's equations of motion) or `rapier` (one body
-    /// per bone joined by rapier's impulse joints; scenarios run 1.8–4.9× slower).
-    #[arg(long, default_value = "reduced")]
-    pub engine: String,
+    /// per bone joined by rapier's impulse joints; slower, docs/PERFORMANCE.md).
+    #[arg(long, default_value_t = Engine::default())]
+    pub engine: Engine,
     /// Simulated seconds per case (default: the scenario's own).
     #[arg(long)]
     pub seconds: Option<f64>,
@@ -158,8 +141,7 @@ pub struct SimulateArgs {
     /// against gravity for 1 s under the scenario's controller, and the first that holds is run
     /// (each case reports `hold_check_shoulder_turn_deg`, `hold_check_tried`,
     /// `hold_check_held`); 1 runs the default shoulder's grasp unchecked.
-    #[arg(long, default_value_t = prehensile_sim::scenarios::CANDIDATES,
-        value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=20))]
+    #[arg(long, default_value_t = scenarios::defaults::CANDIDATES)]
     pub candidates: usize,
     /// Rapier's solver substeps per step (default: one per millisecond of step and at least 1,
     /// so 1 at 0.2 ms and at 1 ms).
@@ -171,11 +153,11 @@ pub struct SimulateArgs {
     pub inner_iterations: Option<usize>,
     /// Friction coefficient of the world (the grasp scenarios search their grasps at half of it,
     /// or at all of it when half finds no valid grasp; each case reports `search_friction`).
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = Settings::default().friction)]
     pub friction: f64,
-    /// Object density, kg/m³. The default (20, like expanded polystyrene) gives objects of
+    /// Object density, kg/m³. The default (like expanded polystyrene) gives objects of
     /// 5–10 g, what the paper's soft hand can lift; try 500 to see heavier objects slip out.
-    #[arg(long, default_value_t = 20.0)]
+    #[arg(long, default_value_t = Settings::default().object_density)]
     pub density: f64,
     /// The run report (JSON).
     #[arg(long, default_value = "run.json")]
@@ -197,10 +179,10 @@ pub struct FitArgs {
     pub motion: Option<PathBuf>,
     /// Without --motion: fit to the synthetic example of a grasp of this object found by the
     /// search (written next to the controller: controller.motion.json for controller.toml).
-    #[arg(long, default_value = "sphere")]
+    #[arg(long, default_value = DEFAULT_OBJECT)]
     pub object: String,
     /// A built-in hand or a hand file.
-    #[arg(long, default_value = "human")]
+    #[arg(long, default_value = DEFAULT_HAND)]
     pub hand: String,
     /// The controller file to write (TOML).
     #[arg(long, default_value = "controller.toml")]
@@ -213,8 +195,8 @@ pub struct MeshOptions {
     /// Multiply coordinates by this factor (after --units).
     #[arg(long, default_value_t = 1.0)]
     pub scale: f64,
-    /// The file's length unit.
-    #[arg(long, value_enum, default_value = "m")]
+    /// The file's length unit: mm, cm or m.
+    #[arg(long, default_value_t = Units::default())]
     pub units: Units,
     /// Repair: merge vertices closer than this many metres first (e.g. 1e-6 for hairline seams).
     #[arg(long)]
@@ -258,17 +240,17 @@ pub struct HandsArgs {
 pub struct GraspArgs {
     /// A built-in hand (human, human-left, robot3, cartoon4) or a hand file (.toml, .urdf, MJCF
     /// .xml, skinned .glb/.gltf).
-    #[arg(long, default_value = "human")]
+    #[arg(long, default_value = DEFAULT_HAND)]
     pub hand: String,
     /// A built-in object (sphere, box, cylinder, torus, mug) or a mesh file (.obj, .stl, .ply,
     /// .gltf, .glb).
-    #[arg(long, default_value = "sphere")]
+    #[arg(long, default_value = DEFAULT_OBJECT)]
     pub object: String,
     /// Units, scale and repair of the mesh.
     #[command(flatten)]
     pub mesh_options: MeshOptions,
     /// power, precision, close, any movement of the hand, or auto (try each, keep the best; a movement with nothing valid after 100 steps stops once another has found its grasp).
-    #[arg(long, default_value = "auto")]
+    #[arg(long, default_value = defaults::MOVEMENT)]
     pub movement: String,
     /// Hook position X,Y,Z in the object's frame (default: its centre of mass). A hook outside
     /// the object's material that gives no grasp pushing from every side is moved into the
@@ -279,23 +261,23 @@ pub struct GraspArgs {
     #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
     pub shoulder: Option<[f64; 3]>,
     /// The world's up axis: x, y or z.
-    #[arg(long, default_value = "z")]
-    pub up: String,
+    #[arg(long, default_value_t = defaults::UP)]
+    pub up: UpAxis,
     /// Seed of the random search angles.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = defaults::SEED)]
     pub seed: u64,
-    /// Threads evaluating each search step's candidates (default: one per core, at most 6; the
-    /// result is the same on any number).
+    /// Threads evaluating each search step's candidates (default: one per core; the result is
+    /// the same on any number).
     #[arg(long)]
     pub threads: Option<usize>,
     /// Quality weights `G,F,T,W[,S]` for gDist, fDist, tDist*, wDist and the stability term ε·L
     /// (default: 5,1,0,1,0 for movements without contact fingers, Eq. 5.1; 5,0,1,1,0 for those
     /// with, Eq. 5.2; S defaults to 0).
-    #[arg(long, value_parser = parse_weights)]
-    pub weights: Option<[f64; 5]>,
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    pub weights: Option<Vec<f64>>,
     /// Coulomb friction coefficient the search assumes: force closure, ε, and how far the contact
     /// normals must spread (78° at 0.5, 59.6° at 1).
-    #[arg(long, default_value_t = 0.5)]
+    #[arg(long, default_value_t = defaults::FRICTION)]
     pub friction: f64,
     /// Which grasps are valid: `holds` (force closure, the contact normals not all within 78° of
     /// one direction at friction 0.5, 59.6° at 1, and a precision grasp's thumb and index pads
@@ -303,13 +285,13 @@ pub struct GraspArgs {
     /// finds none that pushes from every side), `strict` (`holds`, and a power grasp's normals never all in one open
     /// half-space, whatever the friction) or `thesis` (no penetration and enough fingers
     /// touching, §6.4.1).
-    #[arg(long, default_value_t = ValidityRule::default())]
+    #[arg(long, default_value_t = defaults::VALIDITY)]
     pub validity: ValidityRule,
     /// With only a power grasp whose contacts all push from one side (valid under `holds`:
     /// friction holds it), go on looking this many steps for one that pushes from every side;
-    /// 0 takes the first as before session 27 (faster where there is none, e.g. the Shadow
-    /// hand's torus: 10 ms instead of 84).
-    #[arg(long, default_value_t = prehensile_core::search::ONE_SIDED_PATIENCE)]
+    /// 0 takes the first one-sided grasp found (faster where there is none, e.g. the Shadow
+    /// hand's torus; docs/decisions/004-one-sided-patience.md).
+    #[arg(long, default_value_t = defaults::ONE_SIDED_PATIENCE)]
     pub one_sided_patience: u32,
     /// Stop the search after about this many milliseconds, every movement of `auto` within
     /// them; a search may overrun by one slice of its work, a few milliseconds (default: run
@@ -329,8 +311,8 @@ pub struct GraspArgs {
     #[arg(long)]
     pub hold: bool,
     /// The engine of `--hold`: `reduced` (the default) or `rapier`.
-    #[arg(long, default_value = "reduced", requires = "hold")]
-    pub hold_engine: String,
+    #[arg(long, default_value_t = Engine::default(), requires = "hold")]
+    pub hold_engine: Engine,
     /// Write the result as JSON here.
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -353,7 +335,7 @@ pub struct DemoArgs {
     #[arg(long, default_value = "prehensile-demo")]
     pub out: PathBuf,
     /// Seed of the random search angles.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = defaults::SEED)]
     pub seed: u64,
     /// The built browser viewer (`bash tools/viewer/build.sh`), copied into the demo folder as
     /// `viewer/` so that its page opens from the folder itself; left out, with a note in the
@@ -367,22 +349,7 @@ pub fn parse_point(s: &str) -> Result<[f64; 3], String> {
     parse_numbers::<3>(s, "three numbers X,Y,Z")
 }
 
-/// Parses `G,F,T,W` or `G,F,T,W,S`: four or five weights, none negative (S defaults to
-/// [`STABILITY_WEIGHT`]).
-pub fn parse_weights(s: &str) -> Result<[f64; 5], String> {
-    let w = if s.split(',').count() == 4 {
-        let [g, f, t, w] = parse_numbers::<4>(s, "four or five weights G,F,T,W[,S]")?;
-        [g, f, t, w, STABILITY_WEIGHT]
-    } else {
-        parse_numbers::<5>(s, "four or five weights G,F,T,W[,S]")?
-    };
-    if w.iter().any(|x| *x < 0.0) {
-        return Err(format!("'{s}': weights cannot be negative"));
-    }
-    Ok(w)
-}
-
-/// Parses `N` comma-separated finite numbers.
+/// Parses `N` comma-separated numbers (the library checks their values).
 fn parse_numbers<const N: usize>(s: &str, what: &str) -> Result<[f64; N], String> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();
     if parts.len() != N {
@@ -393,9 +360,6 @@ fn parse_numbers<const N: usize>(s: &str, what: &str) -> Result<[f64; N], String
         *slot = part
             .parse()
             .map_err(|_| format!("'{part}' in '{s}' is not a number"))?;
-        if !slot.is_finite() {
-            return Err(format!("'{part}' in '{s}' is not a finite number"));
-        }
     }
     Ok(p)
 }

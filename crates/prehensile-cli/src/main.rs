@@ -44,6 +44,12 @@ pub enum CliError {
     /// A motion could not be fitted.
     #[error("fitting: {0}")]
     Fit(#[from] prehensile_control::DynamicsError),
+    /// An option's value is out of range.
+    #[error(transparent)]
+    Parameter(#[from] prehensile_core::parameter::ParameterError),
+    /// An output file could not be written, or would overwrite an input.
+    #[error(transparent)]
+    Output(#[from] prehensile_formats::OutputError),
     /// A file or folder could not be written, created or read.
     #[error("cannot {action} {}: {source}", path.display())]
     File {
@@ -56,7 +62,7 @@ pub enum CliError {
     },
     /// Standard output could not be written (closed by `| head`, or a full disk).
     #[error("cannot write to standard output: {0}")]
-    Output(std::io::Error),
+    Stdout(std::io::Error),
     /// A result could not be encoded as JSON.
     #[error("cannot encode JSON: {0}")]
     Json(#[from] serde_json::Error),
@@ -65,7 +71,7 @@ pub enum CliError {
 impl CliError {
     /// Standard output could not be written.
     pub fn output(e: std::io::Error) -> Self {
-        Self::Output(e)
+        Self::Stdout(e)
     }
 
     /// A file operation `action` ("write", "create", "read") on `path` failed.
@@ -86,7 +92,7 @@ impl CliError {
 /// big blocks from the heap instead of fresh mappings each, kept when freed, and one arena for
 /// every thread. A fresh 16k-triangle grasp then takes about 2,630 page faults instead of 3,660
 /// (each costs microseconds in a virtual machine) and about 2 ms less wall time
-/// (docs/PERFORMANCE.md, session 45). Set through glibc's own `mallopt`, which only the C
+/// (docs/PERFORMANCE.md). Set through glibc's own `mallopt`, which only the C
 /// library offers.
 #[cfg(all(target_os = "linux", target_env = "gnu"))]
 fn tune_allocator() {

@@ -14,18 +14,6 @@ pub fn hand(spec: &str) -> Result<HandModel, CliError> {
 /// A built-in object by name (scaled), or a mesh file, optionally repaired by welding vertices
 /// within `weld` metres; what was repaired is printed.
 pub fn object(spec: &str, scale: f64, weld: Option<f64>) -> Result<ObjectModel, CliError> {
-    if let Some(w) = weld {
-        if !(w.is_finite() && w > 0.0) {
-            return Err(CliError::Usage(format!(
-                "--weld {w} must be a positive number of metres"
-            )));
-        }
-    }
-    if !(scale.is_finite() && scale > 0.0) {
-        return Err(CliError::Usage(format!(
-            "--scale {scale} must be a positive number"
-        )));
-    }
     let (object, notes) = object_from_spec(spec, scale, weld)?;
     for note in notes {
         eprintln!("note: {spec}: {note}");

@@ -15,37 +15,35 @@
 //!
 //! Conventions: the base is the hand's root bone, fixed; gravity is given in the root bone's
 //! frame; joint vectors follow [`prehensile_core::HandModel::dof_names`].
-#![warn(missing_docs)]
+#![deny(missing_docs)]
+//!
+//! Layers, bottom up (a module uses only those below it): [`DynamicsError`]; `dynamics` (the
+//! model and data, inertia, inverse and forward dynamics, the mass matrix); `controller` (the
+//! setpoints and the torque laws); `fitting` (example motions, passive and active fitting, the
+//! controller file).
 
-mod active_fitting;
-mod body_inertia;
 mod controller;
-mod controller_fitting;
-mod dynamics_model;
-mod example_motion;
-mod forward_dynamics;
-mod inverse_dynamics;
-mod mass_matrix;
-mod outboard_inertia;
-mod passive_fitting;
-mod setpoint;
+mod dynamics;
+mod error;
+mod fitting;
 
-pub use active_fitting::fit_active;
-pub use controller::{
+pub use controller::setpoint::{Blend, PerSetpoint, Setpoint, SETPOINT_NAMES};
+pub use controller::torque_laws::{
     active_torque, ball_joint_coupling, joint_springs, passive_torque, ControllerState, Gains,
     GraspController, GraspState, JointSpring, Setpoints,
 };
-pub use controller_fitting::{
-    fit_controller, ControllerFile, GainsRecord, SetpointRecord, CONTROLLER_SCHEMA, SETPOINT_NAMES,
+pub use dynamics::body_inertia::OutboardInertia;
+pub use dynamics::forward_dynamics::forward_dynamics;
+pub use dynamics::inverse_dynamics::{
+    bias_torques, gravity_torques, inverse_dynamics, inverse_dynamics_moving_base, rnea, BaseMotion,
 };
-pub use dynamics_model::{DynamicsData, DynamicsModel};
-pub use example_motion::{Motion, MOTION_SCHEMA};
-pub use forward_dynamics::forward_dynamics;
-pub use inverse_dynamics::{
-    bias_torques, gravity_torques, inverse_dynamics, inverse_dynamics_moving_base, rnea,
-    BaseMotion, DynamicsError,
+pub use dynamics::mass_matrix::{crba, mass_matrix};
+pub use dynamics::model::{DynamicsData, DynamicsModel};
+pub use dynamics::outboard_inertia::{outboard_inertia, outboard_inertia_into};
+pub use error::DynamicsError;
+pub use fitting::active_fitting::fit_active;
+pub use fitting::controller_fitting::{
+    fit_controller, ControllerFile, GainsRecord, SetpointRecord, CONTROLLER_SCHEMA,
 };
-pub use mass_matrix::{crba, mass_matrix};
-pub use outboard_inertia::{outboard_inertia, outboard_inertia_into, OutboardInertia};
-pub use passive_fitting::fit_passive;
-pub use setpoint::{Blend, PerSetpoint, Setpoint};
+pub use fitting::example_motion::{Motion, MOTION_SCHEMA};
+pub use fitting::passive_fitting::fit_passive;

@@ -5,8 +5,8 @@
 use prehensile_control::{
     crba, rnea, BaseMotion, ControllerState, DynamicsModel, Gains, GraspController, PerSetpoint,
 };
-use prehensile_core::allocation_count::{allocations_on_this_thread, CountingAllocator};
 use prehensile_core::math::Vec3;
+use prehensile_testkit::allocation_count::{allocations_on_this_thread, CountingAllocator};
 
 #[global_allocator]
 static COUNT: CountingAllocator = CountingAllocator;

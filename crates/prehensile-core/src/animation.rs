@@ -1,10 +1,11 @@
 //! Keyframes of a grasp for export: the hand approaches along the hook's −y in the movement's
 //! start pose, then closes each bone from the start to the fraction it reached.
 
+use crate::hand::movement::GraspMovement;
 use crate::hand::HandModel;
-use crate::math::{Rotation, Transform};
-use crate::movement::GraspMovement;
+use crate::math::{Point3, Rotation, Transform};
 use crate::search::translate_to_free::hand_root;
+use crate::search::{GraspResult, SearchError};
 
 /// One keyframe: a time, the root bone's world placement and every bone's joint rotation.
 #[derive(Debug, Clone, PartialEq)]
@@ -46,4 +47,39 @@ pub fn approach_and_close(
         });
     }
     frames
+}
+
+/// The approach and closing of a search result ([`approach_and_close`] from 10 cm back, each
+/// half over one second at 12 frames a second), for `hand`, the hand that found it.
+pub fn result_keyframes(
+    hand: &HandModel,
+    result: &GraspResult,
+) -> Result<Vec<Keyframe>, SearchError> {
+    let movement = hand
+        .movement(&result.movement)
+        .ok_or_else(|| SearchError::UnknownMovement {
+            hand: hand.name().to_string(),
+            movement: result.movement.clone(),
+            known: hand
+                .movements()
+                .iter()
+                .map(|m| m.name().to_string())
+                .collect(),
+            auto_allowed: false,
+        })?;
+    let [x, y, z, w] = result.hook_rotation_xyzw;
+    let hook = Transform::from_parts(
+        Point3::from(result.hook).coords.into(),
+        Rotation::from_quaternion(nalgebra::Quaternion::new(w, x, y, z)),
+    );
+    let fractions: Vec<f64> = result.bones.iter().map(|b| b.fraction).collect();
+    Ok(approach_and_close(
+        hand,
+        movement,
+        &hook,
+        result.offset,
+        &fractions,
+        0.1,
+        12,
+    ))
 }

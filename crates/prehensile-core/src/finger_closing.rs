@@ -7,9 +7,9 @@
 use std::ops::Range;
 
 use crate::collision::Capsule;
-use crate::hand::{Finger, HandModel};
+use crate::hand::movement::GraspMovement;
+use crate::hand::HandModel;
 use crate::math::Transform;
-use crate::movement::GraspMovement;
 use crate::object::ObjectModel;
 use crate::workspace::Workspace;
 
@@ -60,7 +60,7 @@ pub fn close_fingers(
 }
 
 /// [`close_fingers`], asking `go_on(finger, ws)` each time a finger has closed when the fingers
-/// close one after another ([`fingers_close_apart`]), and stopping with `None` (the workspace
+/// close one after another ([`crate::hand::closing_facts::fingers_close_apart`]), and stopping with `None` (the workspace
 /// holding a partial pose) as soon as it answers no: a search stops a pose whose fingers
 /// closed so far already rule it out. Hands whose fingers must close together are closed
 /// whole and never asked. Allocates nothing.
@@ -84,7 +84,7 @@ pub fn close_fingers_while(
         ws.stopped[b] = b == 0;
         ws.touching[b] = false;
     }
-    crate::kinematics::forward_kinematics(hand, root, &ws.rotations, &mut ws.world);
+    crate::hand::kinematics::forward_kinematics(hand, root, &ws.rotations, &mut ws.world);
     if hand.fingers_close_apart() {
         for (f, finger) in hand.fingers().iter().enumerate() {
             let bones = finger.bones.iter().copied();
@@ -107,31 +107,6 @@ pub fn close_fingers_while(
     outcome.touching_bones = ws.touching.iter().filter(|&&t| t).count() as u32;
     update_world_capsules(hand, ws);
     Some(outcome)
-}
-
-/// Can the fingers close one after another, each through every interpolation, instead of all
-/// of them step by step (Alg. 1), with the same outcome? Yes when every bone but the root
-/// belongs to a finger (its bones in index order, parents first) and hangs from the root or
-/// from its own finger, and every rigid coupling stays within a finger: a bone's poses then
-/// depend on its own finger's alone, and the order the fingers are taken in changes nothing.
-pub fn fingers_close_apart(hand: &HandModel) -> bool {
-    let bones = hand.bones();
-    let finger_of = |b: usize| bones[b].finger;
-    let hang_from_their_finger = bones.iter().skip(1).all(|bone| {
-        bone.finger.is_some()
-            && bone
-                .parent
-                .is_some_and(|p| p == 0 || finger_of(p) == bone.finger)
-    });
-    let fingers_in_order = hand.fingers().iter().enumerate().all(|(f, finger)| {
-        finger.bones.windows(2).all(|w| w[0] < w[1])
-            && finger.bones.iter().all(|&b| finger_of(b) == Some(f))
-    });
-    let couplings_within =
-        hand.couplings().iter().filter(|c| c.rigid).all(|c| {
-            finger_of(hand.bone_of_dof(c.leader)) == finger_of(hand.bone_of_dof(c.follower))
-        });
-    hang_from_their_finger && fingers_in_order && couplings_within
 }
 
 /// Alg. 1 over `group` (bones in index order, parents first): every bone of it advances through
@@ -257,7 +232,7 @@ fn stop_coupled_followers(
             );
             ws.reached[follower] = ws.reached[leader];
             if at_follower >= at_leader
-                || !leads_its_chain(hand, leader, follower)
+                || !crate::hand::closing_facts::leads_its_chain(hand, leader, follower)
                 || !group_touches(hand, object, follower..finger_end, ws)
             {
                 continue;
@@ -284,22 +259,6 @@ fn stop_coupled_followers(
             return stopped;
         }
     }
-}
-
-/// Is bone `leader` an ancestor of bone `follower` along one chain, so that
-/// [`stop_coupled_followers`] finds their contact together?
-fn leads_its_chain(hand: &HandModel, leader: usize, follower: usize) -> bool {
-    leader < follower && (leader + 1..=follower).all(|k| hand.chain_predecessor(k) == Some(k - 1))
-}
-
-/// Does finger closing check every pose it leaves `finger` in for contact? Not when a bone of
-/// the finger follows a rigid coupling's leader outside its chain: when the leader stops,
-/// closing moves such a bone to the leader's fraction without asking whether it touches.
-pub fn closes_checked(hand: &HandModel, finger: &Finger) -> bool {
-    hand.couplings().iter().filter(|c| c.rigid).all(|c| {
-        let (leader, follower) = (hand.bone_of_dof(c.leader), hand.bone_of_dof(c.follower));
-        !finger.bones.contains(&follower) || leads_its_chain(hand, leader, follower)
-    })
 }
 
 /// Moves bone `b` to fraction `f` of the movement and updates its world transform from its

@@ -16,29 +16,26 @@
 //! ```
 #![warn(missing_docs)]
 
-pub mod allocation_count;
 pub mod animation;
 pub mod collision;
 mod edge_groups;
 pub mod finger_closing;
 pub mod geometry;
 pub mod hand;
-pub mod kinematics;
 pub mod math;
 pub mod mesh;
-pub mod movement;
-pub mod movement_derivation;
 pub mod object;
+pub mod parameter;
+pub mod random;
 pub mod search;
 pub mod shapes;
-pub mod slerp_path;
 pub mod stability;
 pub mod workspace;
 
 pub use collision::{Capsule, CollisionCounters};
 pub use finger_closing::{close_fingers, ClosingOutcome, ClosingParams};
+pub use hand::GraspMovement;
 pub use hand::{HandDescription, HandError, HandModel};
-pub use mesh::{DroppedTriangles, MeshError, MeshReport, TriangleMesh};
-pub use movement::GraspMovement;
+pub use mesh::{DroppedTriangles, MeshDefect, MeshError, MeshReport, TriangleMesh};
 pub use object::{ObjectError, ObjectModel};
 pub use workspace::Workspace;

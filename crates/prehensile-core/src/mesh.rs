@@ -95,17 +95,87 @@ pub struct MeshReport {
     pub min: [f64; 3],
     /// Upper corner of the bounding box.
     pub max: [f64; 3],
-    /// Human-readable description of each defect, with where it is and how to fix it.
-    pub defects: Vec<String>,
+    /// Each defect, with where it is (its message says how to fix it).
+    pub defects: Vec<MeshDefect>,
 }
 
 impl std::fmt::Display for MeshReport {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         if self.defects.is_empty() {
-            write!(f, "closed mesh")
-        } else {
-            write!(f, "{}", self.defects.join("; "))
+            return write!(f, "closed mesh");
         }
+        for (i, d) in self.defects.iter().enumerate() {
+            write!(f, "{}{d}", if i > 0 { "; " } else { "" })?;
+        }
+        Ok(())
+    }
+}
+
+/// A defect that keeps a mesh from being one clean closed surface. Written to JSON as its
+/// message.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum MeshDefect {
+    /// Edges used by one triangle only: the mesh has holes.
+    #[error("{edges} boundary edges (the mesh has holes), first at vertices {}–{}; close the holes (e.g. Blender: Select > All by Trait > Non Manifold, then Face > Fill)", first[0], first[1])]
+    Holes {
+        /// How many.
+        edges: usize,
+        /// The first one's vertices.
+        first: [u32; 2],
+    },
+    /// Edges shared by more than two triangles.
+    #[error("{edges} non-manifold edges (shared by more than two triangles), first at vertices {}–{}; split or remove the extra faces", first[0], first[1])]
+    NonManifold {
+        /// How many.
+        edges: usize,
+        /// The first one's vertices.
+        first: [u32; 2],
+    },
+    /// Edges whose two triangles face opposite ways.
+    #[error("{edges} edges with inconsistent winding (neighbouring triangles face opposite ways), first at vertices {}–{}; recalculate normals outside", first[0], first[1])]
+    InconsistentWinding {
+        /// How many.
+        edges: usize,
+        /// The first one's vertices.
+        first: [u32; 2],
+    },
+    /// Triangles of (near) zero area.
+    #[error("{triangles} degenerate (zero-area) triangles, first is triangle {first}; remove them in your modeller (prehensile grasp removes them itself by splitting neighbours, shape unchanged)")]
+    Degenerate {
+        /// How many.
+        triangles: usize,
+        /// The first one.
+        first: usize,
+    },
+    /// A closed mesh wound inside out.
+    #[error("the mesh is inside out (volume {volume:.3e} m³); flip all normals")]
+    InsideOut {
+        /// Its (negative) volume, m³.
+        volume: f64,
+    },
+}
+
+impl MeshDefect {
+    /// The defect in a few words, without where or how to fix it.
+    pub fn summary(&self) -> String {
+        match self {
+            Self::Holes { edges, .. } => format!("{edges} boundary edges (the mesh has holes)"),
+            Self::NonManifold { edges, .. } => format!("{edges} non-manifold edges"),
+            Self::InconsistentWinding { edges, .. } => {
+                format!("{edges} edges with inconsistent winding")
+            }
+            Self::Degenerate { triangles, .. } => {
+                format!("{triangles} degenerate (zero-area) triangles")
+            }
+            Self::InsideOut { .. } => "the mesh is inside out".to_string(),
+        }
+    }
+}
+
+impl serde::Serialize for MeshDefect {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.collect_str(self)
     }
 }
 
@@ -672,39 +742,33 @@ impl TriangleMesh {
         inconsistent.sort_unstable();
         let (volume, _) = self.volume_and_centroid();
         let mut defects = Vec::new();
-        let first = |v: &[(u32, u32)]| format!("first at vertices {}–{}", v[0].0, v[0].1);
+        let first = |v: &[(u32, u32)]| [v[0].0, v[0].1];
         if !boundary.is_empty() {
-            defects.push(format!(
-                "{} boundary edges (the mesh has holes), {}; close the holes (e.g. Blender: Select > All by Trait > Non Manifold, then Face > Fill)",
-                boundary.len(),
-                first(&boundary)
-            ));
+            defects.push(MeshDefect::Holes {
+                edges: boundary.len(),
+                first: first(&boundary),
+            });
         }
         if !non_manifold.is_empty() {
-            defects.push(format!(
-                "{} non-manifold edges (shared by more than two triangles), {}; split or remove the extra faces",
-                non_manifold.len(),
-                first(&non_manifold)
-            ));
+            defects.push(MeshDefect::NonManifold {
+                edges: non_manifold.len(),
+                first: first(&non_manifold),
+            });
         }
         if !inconsistent.is_empty() {
-            defects.push(format!(
-                "{} edges with inconsistent winding (neighbouring triangles face opposite ways), {}; recalculate normals outside",
-                inconsistent.len(),
-                first(&inconsistent)
-            ));
+            defects.push(MeshDefect::InconsistentWinding {
+                edges: inconsistent.len(),
+                first: first(&inconsistent),
+            });
         }
         if !degenerate.is_empty() {
-            defects.push(format!(
-                "{} degenerate (zero-area) triangles, first is triangle {}; remove them in your modeller (prehensile grasp removes them itself by splitting neighbours, shape unchanged)",
-                degenerate.len(),
-                degenerate[0]
-            ));
+            defects.push(MeshDefect::Degenerate {
+                triangles: degenerate.len(),
+                first: degenerate[0],
+            });
         }
         if defects.is_empty() && volume <= 0.0 {
-            defects.push(format!(
-                "the mesh is inside out (volume {volume:.3e} m³); flip all normals"
-            ));
+            defects.push(MeshDefect::InsideOut { volume });
         }
         MeshReport {
             triangles: self.triangles.len(),
@@ -771,7 +835,7 @@ mod tests {
         let r = TriangleMesh::weld(&v, &t).unwrap().report();
         assert_eq!(r.boundary_edges, 3);
         assert!(
-            r.defects[0].contains("3 boundary edges"),
+            r.defects[0].to_string().contains("3 boundary edges"),
             "{}",
             r.defects[0]
         );
@@ -930,6 +994,9 @@ mod tests {
         let (v, t) = tetra();
         let flipped: Vec<[usize; 3]> = t.iter().map(|&[a, b, c]| [a, c, b]).collect();
         let r = TriangleMesh::weld(&v, &flipped).unwrap().report();
-        assert!(r.defects.iter().any(|d| d.contains("inside out")));
+        assert!(r
+            .defects
+            .iter()
+            .any(|d| matches!(d, MeshDefect::InsideOut { .. })));
     }
 }

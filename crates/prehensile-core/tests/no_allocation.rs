@@ -3,9 +3,9 @@
 
 mod common;
 
-use prehensile_core::allocation_count::{allocations_on_this_thread, CountingAllocator};
 use prehensile_core::finger_closing::{close_fingers, ClosingParams};
 use prehensile_core::Workspace;
+use prehensile_testkit::allocation_count::{allocations_on_this_thread, CountingAllocator};
 
 #[global_allocator]
 static COUNT: CountingAllocator = CountingAllocator;

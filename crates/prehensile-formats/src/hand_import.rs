@@ -1,9 +1,9 @@
 //! What every imported hand needs beyond its file: finger names, a hand frame in our convention,
 //! radii and fingertips where the file has none.
 
+use prehensile_core::hand::movement::GraspMovement;
 use prehensile_core::hand::{BonePart, HandParts};
 use prehensile_core::math::{Point3, Rotation, Transform, Vec3};
-use prehensile_core::movement::GraspMovement;
 use prehensile_core::HandModel;
 
 use crate::FormatError;
@@ -341,7 +341,7 @@ pub fn build_in_hand_frame(
         parts.close = s.close.iter().map(|(k, v)| (k.clone(), *v)).collect();
     }
     let mut hand = HandModel::from_parts(parts).map_err(err)?;
-    prehensile_core::movement_derivation::add_derived_movements(&mut hand);
+    prehensile_core::hand::movement_derivation::add_derived_movements(&mut hand);
     for (name, o) in sidecar.iter().flat_map(|s| &s.movements) {
         o.apply(&mut hand, name, source)?;
     }

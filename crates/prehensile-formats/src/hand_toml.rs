@@ -1,33 +1,10 @@
-//! Hands described in TOML (see `docs/HAND_FORMAT.md`), and the built-in hands.
+//! Hands described in TOML (see `docs/HAND_FORMAT.md`).
 
 use std::path::Path;
 
 use prehensile_core::{HandDescription, HandModel};
 
 use crate::FormatError;
-
-/// Names of the built-in hands.
-pub const BUILTIN_HANDS: [&str; 4] = ["human", "human-left", "robot3", "cartoon4"];
-
-/// The built-in hand with this name, or `None`.
-pub fn builtin_hand(name: &str) -> Option<HandModel> {
-    let text = match name {
-        "human-left" => {
-            let right: HandDescription =
-                toml::from_str(include_str!("../../../assets/hands/human.toml"))
-                    .expect("the built-in human hand parses");
-            return Some(
-                HandModel::from_description(&right.mirrored("human-left"))
-                    .expect("the mirrored human hand is valid (tested)"),
-            );
-        }
-        "human" => include_str!("../../../assets/hands/human.toml"),
-        "robot3" => include_str!("../../../assets/hands/robot3.toml"),
-        "cartoon4" => include_str!("../../../assets/hands/cartoon4.toml"),
-        _ => return None,
-    };
-    Some(parse_hand_toml(text, name).expect("built-in hands are valid (tested)"))
-}
 
 /// Parses and validates a hand description. `source_name` names the text in errors.
 pub fn parse_hand_toml(text: &str, source_name: &str) -> Result<HandModel, FormatError> {
@@ -41,7 +18,7 @@ pub fn parse_hand_toml(text: &str, source_name: &str) -> Result<HandModel, Forma
     })?;
     let mut hand =
         HandModel::from_description(&desc).map_err(|e| FormatError::caused_by(source_name, e))?;
-    prehensile_core::movement_derivation::add_derived_movements(&mut hand);
+    prehensile_core::hand::movement_derivation::add_derived_movements(&mut hand);
     Ok(hand)
 }
 
@@ -103,6 +80,8 @@ fn line_of(text: &str, byte: usize) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::builtin::builtin_hand;
+    use crate::BUILTIN_HANDS;
 
     #[test]
     fn builtin_hands_load() {
@@ -124,7 +103,7 @@ mod tests {
         assert!(builtin_hand("robot3").unwrap().movement("power").is_none());
         // A movement the file writes is kept as written.
         let human = builtin_hand("human").unwrap();
-        let derived = prehensile_core::movement_derivation::derive_power(&human).unwrap();
+        let derived = prehensile_core::hand::movement_derivation::derive_power(&human).unwrap();
         assert_ne!(
             human.movement("power").unwrap().end_angles(),
             derived.end_angles()
@@ -134,7 +113,7 @@ mod tests {
     #[test]
     fn a_movement_passes_through_its_via_pose() {
         let human = include_str!("../../../assets/hands/human.toml");
-        // The power movement's own via pose (session 29), its fraction and thumb metacarpal
+        // The power movement's own via pose, its fraction and thumb metacarpal
         // angles replaced.
         let (fraction_line, thumb_line) = (
             "via_fraction = 0.5\n",

@@ -5,12 +5,12 @@
 //! physics engines. Every error names the file, the line or element, and the reason.
 #![warn(missing_docs)]
 
+pub mod builtin;
 mod bvh;
 mod collision_mesh;
 mod error;
 mod file_access;
 #[doc(hidden)]
-pub mod fuzz_entry;
 mod glb;
 mod gltf_accessors;
 mod hand_gltf;
@@ -23,8 +23,11 @@ mod mesh_obj;
 mod mesh_ply;
 mod mesh_stl;
 mod meshes;
+pub mod output;
 pub mod sources;
+mod units;
 
+pub use builtin::{builtin_hand, builtin_object, BUILTIN_HANDS, BUILTIN_OBJECTS};
 pub use bvh::{euler_zxy, parse_bvh, write_bvh, BvhJoint, BvhMotion};
 pub use error::{FormatCause, FormatError};
 pub use file_access::{confined, read_input, read_input_text, MAX_MESH_BYTES, MAX_TEXT_BYTES};
@@ -32,9 +35,11 @@ pub use glb::{glb_container, grasp_glb, inverse_bind_matrices, simulation_glb};
 pub use hand_gltf::{load_hand_gltf, load_hand_gltf_skinned, parse_hand_gltf_skinned, SkinnedMesh};
 pub use hand_import::Sidecar;
 pub use hand_mjcf::{load_hand_mjcf, parse_hand_mjcf, parse_hand_mjcf_files, parse_hand_mjcf_with};
-pub use hand_toml::{builtin_hand, load_hand, parse_hand, parse_hand_toml, BUILTIN_HANDS};
+pub use hand_toml::{load_hand, parse_hand, parse_hand_toml};
 pub use hand_urdf::{load_hand_urdf, parse_hand_urdf, parse_hand_urdf_files, parse_hand_urdf_with};
 pub use mesh_obj::parse_obj;
 pub use mesh_ply::parse_ply;
 pub use mesh_stl::parse_stl;
-pub use meshes::{load_object, load_object_repaired, parse_mesh, read_mesh, write_obj};
+pub use meshes::{load_object, load_object_repaired, parse_mesh, read_mesh, write_obj, LoadNote};
+pub use output::{write_atomically, write_file, OutputError, Outputs};
+pub use units::Units;

@@ -3,6 +3,7 @@
 use std::path::Path;
 
 use prehensile_core::math::Point3;
+use prehensile_core::object::Repair;
 use prehensile_core::{ObjectModel, TriangleMesh};
 
 use crate::{parse_obj, parse_ply, parse_stl, FormatError};
@@ -71,23 +72,61 @@ pub fn load_object(path: &Path, scale: f64) -> Result<ObjectModel, FormatError> 
     load_object_repaired(path, scale, None).map(|(o, _)| o)
 }
 
+/// What loading an object did to its mesh: the weld asked for, and the library's repairs.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum LoadNote {
+    /// Vertices closer than the weld tolerance were merged.
+    Welded {
+        /// Vertices merged.
+        merged: usize,
+        /// The tolerance, metres.
+        tolerance: f64,
+        /// Boundary edges before and after.
+        boundary_edges: [usize; 2],
+        /// Non-manifold edges before and after.
+        non_manifold_edges: [usize; 2],
+    },
+    /// A repair the object made ([`ObjectModel::repairs`]).
+    Repaired(Repair),
+}
+
+impl std::fmt::Display for LoadNote {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Welded {
+                merged,
+                tolerance,
+                boundary_edges: [b0, b1],
+                non_manifold_edges: [n0, n1],
+            } => write!(
+                f,
+                "merged {merged} vertices closer than {tolerance:.1e} m: boundary edges {b0} -> {b1}, non-manifold edges {n0} -> {n1}"
+            ),
+            Self::Repaired(r) => r.fmt(f),
+        }
+    }
+}
+
 /// As [`load_object`], but with `weld_tolerance` first merges vertices closer than that many
 /// metres (an explicit repair for scans with hairline seams); returns what was done.
 pub fn load_object_repaired(
     path: &Path,
     scale: f64,
     weld_tolerance: Option<f64>,
-) -> Result<(ObjectModel, Vec<String>), FormatError> {
+) -> Result<(ObjectModel, Vec<LoadNote>), FormatError> {
     let mut mesh = read_mesh(path, scale)?;
     let mut notes = Vec::new();
     if let Some(tolerance) = weld_tolerance {
         let before = mesh.report();
         let (welded, merged) = mesh.weld_within(tolerance);
         let after = welded.report();
-        notes.push(format!(
-            "merged {merged} vertices closer than {tolerance:.1e} m: boundary edges {} -> {}, non-manifold edges {} -> {}",
-            before.boundary_edges, after.boundary_edges, before.non_manifold_edges, after.non_manifold_edges
-        ));
+        notes.push(LoadNote::Welded {
+            merged,
+            tolerance,
+            boundary_edges: [before.boundary_edges, after.boundary_edges],
+            non_manifold_edges: [before.non_manifold_edges, after.non_manifold_edges],
+        });
         mesh = welded;
     }
     let name = path
@@ -96,7 +135,7 @@ pub fn load_object_repaired(
         .unwrap_or_else(|| "object".into());
     let object = ObjectModel::new(&name, mesh, None)
         .map_err(|e| FormatError::caused_by(&path.display().to_string(), e))?;
-    notes.extend(object.repairs().iter().cloned());
+    notes.extend(object.repairs().iter().cloned().map(LoadNote::Repaired));
     Ok((object, notes))
 }
 

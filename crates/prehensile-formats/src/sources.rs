@@ -2,10 +2,10 @@
 
 use std::path::Path;
 
-use prehensile_core::shapes::{builtin_object, BUILTIN_OBJECTS};
 use prehensile_core::{HandModel, ObjectModel};
 
-use crate::{builtin_hand, load_hand, load_object_repaired, FormatError, BUILTIN_HANDS};
+use crate::builtin::{builtin_hand, builtin_object, BUILTIN_HANDS, BUILTIN_OBJECTS};
+use crate::{load_hand, load_object_repaired, FormatError, LoadNote};
 
 /// A built-in hand by name, or a hand file.
 pub fn hand_from_spec(spec: &str) -> Result<HandModel, FormatError> {
@@ -60,7 +60,7 @@ pub fn object_from_spec(
     spec: &str,
     scale: f64,
     weld: Option<f64>,
-) -> Result<(ObjectModel, Vec<String>), FormatError> {
+) -> Result<(ObjectModel, Vec<LoadNote>), FormatError> {
     if let Some(w) = weld {
         if !(w.is_finite() && w > 0.0) {
             return Err(FormatError::new(

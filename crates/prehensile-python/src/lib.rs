@@ -10,33 +10,29 @@ use std::time::Duration;
 
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray2};
-use prehensile_core::math::{Point3, Vec3};
+use prehensile_batch::FLUSH_ROWS;
+use prehensile_core::math::Point3;
 use prehensile_core::mesh::TriangleMesh;
 use prehensile_core::object::MeshCheck;
+use prehensile_core::parameter::in_range;
 use prehensile_core::search::{
-    default_shoulder, find_grasp, GraspRequest, GraspResult, PlannerStatus, QualityWeights,
-    SearchParams, SharedPlanner, ValidityRule, ONE_SIDED_PATIENCE,
+    defaults, find_grasp, GraspOptions, GraspResult, PlannerStatus, SharedPlanner,
 };
-use prehensile_core::stability::ContactModel;
 use prehensile_core::{HandModel, ObjectModel};
-use pyo3::exceptions::PyException;
+use prehensile_formats::builtin::DEFAULT_HAND;
+use prehensile_formats::Units;
+use prehensile_sim::scenarios::{self, defaults as sim_defaults, Options, Scenario};
+use prehensile_sim::{Engine, Settings};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-pyo3::create_exception!(
-    prehensile,
-    PrehensileError,
-    PyException,
-    "A bad input or a failed run; the message says what, where and how to fix it."
-);
+mod errors;
 
-fn error(e: impl std::fmt::Display) -> PyErr {
-    PrehensileError::new_err(e.to_string())
-}
+use errors::raise;
 
 /// Python value of a serializable record, through its JSON.
 fn to_python<'py>(py: Python<'py>, value: &impl serde::Serialize) -> PyResult<Bound<'py, PyAny>> {
-    let text = serde_json::to_string(value).map_err(error)?;
+    let text = serde_json::to_string(value).expect("records always serialize");
     py.import("json")?.call_method1("loads", (text,))
 }
 
@@ -48,27 +44,9 @@ fn points<'py>(py: Python<'py>, rows: impl Iterator<Item = [f64; 3]>) -> Bound<'
         .into_pyarray(py)
 }
 
-fn up_axis(up: &str) -> PyResult<Vec3> {
-    match up {
-        "x" => Ok(Vec3::x()),
-        "y" => Ok(Vec3::y()),
-        "z" => Ok(Vec3::z()),
-        other => Err(error(format!("up='{other}': use 'x', 'y' or 'z'"))),
-    }
-}
-
-fn validity_rule(rule: &str) -> PyResult<ValidityRule> {
-    rule.parse()
-        .map_err(|e: String| error(format!("validity={e}")))
-}
-
-fn units_factor(units: &str) -> PyResult<f64> {
-    match units {
-        "m" => Ok(1.0),
-        "cm" => Ok(0.01),
-        "mm" => Ok(0.001),
-        other => Err(error(format!("units='{other}': use 'm', 'cm' or 'mm'"))),
-    }
+/// Metres per unit of `units` times `scale` (the library checks both).
+fn length_factor(units: &str, scale: f64) -> PyResult<f64> {
+    Ok(units.parse::<Units>().map_err(raise)?.metres() * scale)
 }
 
 /// A hand: a built-in name (`human`, `human-left`, `robot3`, `cartoon4`) or a hand file
@@ -84,7 +62,7 @@ impl Hand {
     fn new(py: Python<'_>, spec: &str) -> PyResult<Self> {
         let model = py
             .detach(|| prehensile_formats::sources::hand_from_spec(spec))
-            .map_err(error)?;
+            .map_err(raise)?;
         Ok(Self {
             model: Arc::new(model),
         })
@@ -180,10 +158,10 @@ impl Object {
         scale: f64,
         weld: Option<f64>,
     ) -> PyResult<Self> {
-        let factor = units_factor(units)? * scale;
+        let factor = length_factor(units, scale)?;
         let (model, _notes) = py
             .detach(|| prehensile_formats::sources::object_from_spec(spec, factor, weld))
-            .map_err(error)?;
+            .map_err(raise)?;
         Ok(Self {
             model: Arc::new(model),
         })
@@ -201,10 +179,10 @@ impl Object {
         units: &str,
         scale: f64,
     ) -> PyResult<Self> {
-        let mesh = mesh_from_arrays(vertices, faces, units_factor(units)? * scale)?;
+        let mesh = mesh_from_arrays(vertices, faces, length_factor(units, scale)?)?;
         let model = py
             .detach(|| ObjectModel::new(name, mesh, None))
-            .map_err(|e| error(format!("{name}: {e}")))?;
+            .map_err(raise)?;
         Ok(Self {
             model: Arc::new(model),
         })
@@ -263,7 +241,7 @@ impl Object {
     /// Repairs made when setting the object up.
     #[getter]
     fn repairs(&self) -> Vec<String> {
-        self.model.repairs().to_vec()
+        self.model.repairs().iter().map(|r| r.to_string()).collect()
     }
 
     fn __repr__(&self) -> String {
@@ -288,7 +266,7 @@ fn mesh_from_arrays(
     let v = vertices.as_array();
     let f = faces.as_array();
     if v.ncols() != 3 || f.ncols() != 3 {
-        return Err(error(format!(
+        return Err(errors::MeshError::new_err(format!(
             "vertices must be (n, 3) and faces (m, 3); got {:?} and {:?}",
             v.shape(),
             f.shape()
@@ -307,7 +285,7 @@ fn mesh_from_arrays(
                 .ok()
                 .filter(|&x| x < positions.len())
                 .ok_or_else(|| {
-                    error(format!(
+                    errors::MeshError::new_err(format!(
                         "face {i} names vertex {}, but there are {} vertices (0-based)",
                         r[k],
                         positions.len()
@@ -316,7 +294,7 @@ fn mesh_from_arrays(
         }
         triangles.push(t);
     }
-    TriangleMesh::weld(&positions, &triangles).map_err(error)
+    TriangleMesh::weld(&positions, &triangles).map_err(raise)
 }
 
 /// A grasp found by the search (or the best attempt, with why it is not valid).
@@ -455,11 +433,11 @@ impl GraspResultPy {
 
     /// The whole result as JSON (`prehensile.grasp/3`, docs/RESULT_SCHEMA.md).
     fn to_json(&self) -> PyResult<String> {
-        let mut value = serde_json::to_value(&self.result).map_err(error)?;
+        let mut value = serde_json::to_value(&self.result).expect("results always serialize");
         if let (Some(h), Some(map)) = (&self.hold, value.as_object_mut()) {
             map.insert("hold".into(), h.clone());
         }
-        serde_json::to_string_pretty(&value).map_err(error)
+        Ok(serde_json::to_string_pretty(&value).expect("results always serialize"))
     }
 
     /// The whole result as a dict (the JSON's structure).
@@ -491,9 +469,11 @@ fn hand_of(py: Python<'_>, hand: &Bound<'_, PyAny>) -> PyResult<Arc<HandModel>> 
     if let Ok(h) = hand.cast::<Hand>() {
         return Ok(h.get().model.clone());
     }
-    let spec: String = hand
-        .extract()
-        .map_err(|_| error("hand: give a prehensile.Hand, a built-in name or a file path"))?;
+    let spec: String = hand.extract().map_err(|_| {
+        errors::ParameterError::new_err(
+            "hand: give a prehensile.Hand, a built-in name or a file path",
+        )
+    })?;
     Ok(Hand::new(py, &spec)?.model)
 }
 
@@ -502,87 +482,35 @@ fn object_of(py: Python<'_>, object: &Bound<'_, PyAny>) -> PyResult<Arc<ObjectMo
     if let Ok(o) = object.cast::<Object>() {
         return Ok(o.get().model.clone());
     }
-    let spec: String = object
-        .extract()
-        .map_err(|_| error("object: give a prehensile.Object, a built-in name or a file path"))?;
+    let spec: String = object.extract().map_err(|_| {
+        errors::ParameterError::new_err(
+            "object: give a prehensile.Object, a built-in name or a file path",
+        )
+    })?;
     Ok(Object::new(py, &spec, "m", 1.0, None)?.model)
 }
 
-/// Everything the search takes, checked as the CLI checks it.
-fn search_params(
-    seed: u64,
-    up: &str,
-    weights: Option<Vec<f64>>,
-    friction: f64,
-    validity: &str,
-    one_sided_patience: u32,
-) -> PyResult<SearchParams> {
-    let weights = match weights.as_deref() {
-        None => None,
-        Some([g, f, t, w]) => Some(QualityWeights {
-            gdist: *g,
-            fdist: *f,
-            tdist: *t,
-            wdist: *w,
-            stability: prehensile_core::search::quality::STABILITY_WEIGHT,
-        }),
-        Some([g, f, t, w, s]) => Some(QualityWeights {
-            gdist: *g,
-            fdist: *f,
-            tdist: *t,
-            wdist: *w,
-            stability: *s,
-        }),
-        Some(other) => {
-            return Err(error(format!(
-                "weights: give 4 or 5 numbers (G, F, T, W[, S]), got {}",
-                other.len()
-            )))
-        }
-    };
-    if weights
-        .iter()
-        .flat_map(|w| [w.gdist, w.fdist, w.tdist, w.wdist, w.stability])
-        .any(|w| !(w.is_finite() && w >= 0.0))
-    {
-        return Err(error("weights must be finite and not negative"));
-    }
-    Ok(SearchParams {
-        seed,
-        up: up_axis(up)?,
-        weights,
-        validity: validity_rule(validity)?,
-        one_sided_patience,
-        contact_model: ContactModel {
-            friction,
-            ..ContactModel::default()
-        },
-        ..SearchParams::default()
-    })
-}
-
-/// The object with its hook moved, or as it is.
-fn hooked(object: Arc<ObjectModel>, hook: Option<[f64; 3]>) -> PyResult<Arc<ObjectModel>> {
-    match hook {
+/// The object hung from the options' hook, or as it is.
+fn hooked(object: Arc<ObjectModel>, options: &GraspOptions) -> PyResult<Arc<ObjectModel>> {
+    match options.hook_point().map_err(raise)? {
         None => Ok(object),
         Some(h) => Ok(Arc::new(
-            (*object)
-                .clone()
-                .with_hooks(vec![Point3::from(h)])
-                .map_err(error)?,
+            (*object).clone().with_hooks(vec![h]).map_err(raise)?,
         )),
     }
 }
 
 /// Searches a grasp of `object` by `hand` (each a model, a built-in name or a file), exactly as
-/// `prehensile grasp` does; with `hold=True` also runs the hold test (in the simulation's default engine).
+/// `prehensile grasp` does (the same defaults: `prehensile.defaults()["grasp"]`); with
+/// `hold=True` also runs the hold test (in the simulation's default engine).
 /// `one_sided_patience` is `--one-sided-patience`: steps to go on looking past a grasp whose
 /// contacts all push from one side. `budget_ms` is `--budget-ms`: the whole search's time, every
 /// movement of `auto` within it.
 #[pyfunction]
-#[pyo3(signature = (hand, object, movement = "auto", *, shoulder = None, hook = None, up = "z",
-    seed = 1, weights = None, friction = 0.5, validity = "holds", budget_ms = None, hold = false,
-    one_sided_patience = ONE_SIDED_PATIENCE))]
+#[pyo3(signature = (hand, object, movement = defaults::MOVEMENT, *, shoulder = None, hook = None,
+    up = defaults::UP.name(), seed = defaults::SEED, weights = None, friction = defaults::FRICTION,
+    validity = defaults::VALIDITY.name(), budget_ms = None, hold = false,
+    one_sided_patience = defaults::ONE_SIDED_PATIENCE, threads = None))]
 #[allow(clippy::too_many_arguments)]
 fn grasp(
     py: Python<'_>,
@@ -599,48 +527,42 @@ fn grasp(
     budget_ms: Option<f64>,
     hold: bool,
     one_sided_patience: u32,
+    threads: Option<usize>,
 ) -> PyResult<GraspResultPy> {
-    let hand = hand_of(py, hand)?;
-    let object = hooked(object_of(py, object)?, hook)?;
-    let params = search_params(seed, up, weights, friction, validity, one_sided_patience)?;
-    let budget = match budget_ms {
-        None => None,
-        Some(ms) if ms.is_finite() && ms > 0.0 && ms <= 86_400_000.0 => {
-            Some(Duration::from_secs_f64(ms / 1e3))
-        }
-        Some(ms) => {
-            return Err(error(format!(
-                "budget_ms={ms}: a positive number of milliseconds, at most a day"
-            )))
-        }
-    };
-    let request = GraspRequest {
+    let options = GraspOptions {
         movement: movement.to_string(),
-        shoulder: shoulder
-            .map(Point3::from)
-            .unwrap_or_else(|| default_shoulder(&hand, &object.hooks()[0], &params.up)),
-        params,
-        budget,
+        hook,
+        shoulder,
+        up: up.parse().map_err(raise)?,
+        seed,
+        threads,
+        weights,
+        friction,
+        validity: validity.parse().map_err(raise)?,
+        one_sided_patience,
+        budget_ms,
     };
-    let (result, hold) = py
-        .detach(|| -> Result<_, String> {
-            let result =
-                find_grasp(&hand, &object, &request, &mut ()).map_err(|e| e.to_string())?;
-            let hold = if hold {
-                let report = prehensile_sim::scenarios::hold_test_of_result(
+    let hand = hand_of(py, hand)?;
+    let object = hooked(object_of(py, object)?, &options)?;
+    let request = options.request(&hand, &object).map_err(raise)?;
+    let result = py
+        .detach(|| find_grasp(&hand, &object, &request, &mut ()))
+        .map_err(raise)?;
+    let hold = if hold {
+        let report = py
+            .detach(|| {
+                prehensile_sim::scenarios::hold_test_of_result(
                     &hand,
                     &object,
                     &result,
                     prehensile_sim::Engine::default(),
                 )
-                .map_err(|e| e.to_string())?;
-                Some(serde_json::to_value(report).map_err(|e| e.to_string())?)
-            } else {
-                None
-            };
-            Ok((result, hold))
-        })
-        .map_err(error)?;
+            })
+            .map_err(raise)?;
+        Some(serde_json::to_value(report).expect("reports always serialize"))
+    } else {
+        None
+    };
     Ok(GraspResultPy { result, hold })
 }
 
@@ -649,13 +571,13 @@ fn grasp(
 #[pyfunction]
 #[pyo3(signature = (path, *, units = "m", scale = 1.0))]
 fn check<'py>(py: Python<'py>, path: &str, units: &str, scale: f64) -> PyResult<Bound<'py, PyAny>> {
-    let factor = units_factor(units)? * scale;
+    let factor = length_factor(units, scale)?;
     let check = py
         .detach(|| {
             prehensile_formats::read_mesh(std::path::Path::new(path), factor)
                 .map(|mesh| MeshCheck::new(path, mesh))
         })
-        .map_err(error)?;
+        .map_err(raise)?;
     to_python(py, &check)
 }
 
@@ -679,8 +601,9 @@ fn status_name(s: PlannerStatus) -> &'static str {
 impl Planner {
     #[new]
     #[pyo3(signature = (hand, object, movement = "power", *, shoulder = None, hook = None,
-        up = "z", seed = 1, weights = None, friction = 0.5, validity = "holds",
-        one_sided_patience = ONE_SIDED_PATIENCE))]
+        up = defaults::UP.name(), seed = defaults::SEED, weights = None,
+        friction = defaults::FRICTION, validity = defaults::VALIDITY.name(),
+        one_sided_patience = defaults::ONE_SIDED_PATIENCE, threads = None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -695,15 +618,26 @@ impl Planner {
         friction: f64,
         validity: &str,
         one_sided_patience: u32,
+        threads: Option<usize>,
     ) -> PyResult<Self> {
+        let options = GraspOptions {
+            movement: movement.to_string(),
+            hook,
+            shoulder,
+            up: up.parse().map_err(raise)?,
+            seed,
+            threads: Some(threads.unwrap_or(1)),
+            weights,
+            friction,
+            validity: validity.parse().map_err(raise)?,
+            one_sided_patience,
+            budget_ms: None,
+        };
         let hand = hand_of(py, hand)?;
-        let object = hooked(object_of(py, object)?, hook)?;
-        let params = search_params(seed, up, weights, friction, validity, one_sided_patience)?;
-        let shoulder = shoulder
-            .map(Point3::from)
-            .unwrap_or_else(|| default_shoulder(&hand, &object.hooks()[0], &params.up));
-        let planner = SharedPlanner::new(hand, object, movement, shoulder, params)
-            .map_err(|e| error(format!("{e}; grasp() tries every movement with 'auto'")))?;
+        let object = hooked(object_of(py, object)?, &options)?;
+        let request = options.request(&hand, &object).map_err(raise)?;
+        let planner = SharedPlanner::new(hand, object, movement, request.shoulder, request.params)
+            .map_err(raise)?;
         Ok(Self { planner })
     }
 
@@ -714,11 +648,7 @@ impl Planner {
 
     /// Steps for `ms` milliseconds of wall time; returns the status.
     fn run_for(&mut self, py: Python<'_>, ms: f64) -> PyResult<&'static str> {
-        if !(ms.is_finite() && (0.0..=86_400_000.0).contains(&ms)) {
-            return Err(error(format!(
-                "ms={ms}: a number of milliseconds, 0 to a day"
-            )));
-        }
+        let ms = in_range("ms", ms, 0.0, defaults::MAX_BUDGET_MS, "milliseconds").map_err(raise)?;
         let budget = Duration::from_secs_f64(ms / 1e3);
         Ok(status_name(
             self.planner.with_mut(|p| py.detach(|| p.run_for(budget))),
@@ -734,7 +664,7 @@ impl Planner {
     fn set_shoulder(&mut self, shoulder: [f64; 3]) -> PyResult<bool> {
         self.planner
             .with_mut(|p| p.set_shoulder(Point3::from(shoulder)))
-            .map_err(error)
+            .map_err(raise)
     }
 
     /// The planner's status.
@@ -770,12 +700,13 @@ impl Planner {
 }
 
 /// Runs one of the paper's scenarios (`drop`, `grasp`, `grip-sweep`, `handshake`, `open-close`,
-/// `shake`) as `prehensile simulate` does (same defaults: the human hand; sphere, box and
-/// cylinder; `candidates` grasps per object checked; `engine` `reduced`, the default, or `rapier`); returns its
-/// report as a dict.
+/// `shake`) as `prehensile simulate` does (the same defaults: `prehensile.defaults()["simulate"]`;
+/// `engine` `reduced`, the default, or `rapier`); returns its report as a dict.
 #[pyfunction]
-#[pyo3(signature = (scenario = "grasp", *, hand = None, objects = None, alpha = 0.5, dt = 0.001,
-    friction = 1.0, density = 20.0, seconds = None, candidates = 3, engine = "reduced"))]
+#[pyo3(signature = (scenario = sim_defaults::SCENARIO.name(), *, hand = None, objects = None,
+    alpha = sim_defaults::ALPHA, dt = Settings::default().dt,
+    friction = Settings::default().friction, density = Settings::default().object_density,
+    seconds = None, candidates = sim_defaults::CANDIDATES, engine = Engine::default().name()))]
 #[allow(clippy::too_many_arguments)]
 fn simulate<'py>(
     py: Python<'py>,
@@ -790,35 +721,17 @@ fn simulate<'py>(
     candidates: usize,
     engine: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
-    use prehensile_sim::scenarios::{self, Options, Scenario};
-    let engine = prehensile_sim::Engine::from_name(engine).ok_or_else(|| {
-        error(format!(
-            "unknown engine '{engine}'; choose one of {}",
-            prehensile_sim::Engine::NAMES.join(", ")
-        ))
-    })?;
-    if !(1..=20).contains(&candidates) {
-        return Err(error(format!(
-            "candidates={candidates}: give 1 to 20 grasps per object"
-        )));
-    }
-    use prehensile_sim::Settings;
-    let scenario = Scenario::from_name(scenario).ok_or_else(|| {
-        error(format!(
-            "unknown scenario '{scenario}'; choose one of {}",
-            Scenario::NAMES.join(", ")
-        ))
-    })?;
+    let scenario: Scenario = scenario.parse().map_err(raise)?;
     let hand = match hand {
         Some(h) => hand_of(py, h)?,
-        None => Hand::new(py, "human")?.model,
+        None => Hand::new(py, sim_defaults::HAND)?.model,
     };
     let objects: Vec<ObjectModel> = match objects {
         Some(list) => list
             .iter()
             .map(|o| object_of(py, o).map(|m| (*m).clone()))
             .collect::<PyResult<_>>()?,
-        None => ["sphere", "box", "cylinder"]
+        None => sim_defaults::OBJECTS
             .iter()
             .map(|name| Object::new(py, name, "m", 1.0, None).map(|o| (*o.model).clone()))
             .collect::<PyResult<_>>()?,
@@ -830,9 +743,7 @@ fn simulate<'py>(
         settings: Settings {
             friction,
             object_density: density,
-            solver_iterations: Settings::iterations_for(dt),
-            inner_iterations: Settings::inner_iterations_for(dt),
-            engine,
+            engine: engine.parse().map_err(raise)?,
             ..Settings::for_step(dt)
         },
         seconds,
@@ -840,17 +751,18 @@ fn simulate<'py>(
     };
     let report = py
         .detach(|| scenarios::run(scenario, &options, &mut |_, _| {}).map(|(r, _)| r))
-        .map_err(error)?;
+        .map_err(raise)?;
     to_python(py, &report)
 }
 
 /// Runs a batch into a Parquet dataset folder, as `prehensile batch` does (resumable; failures
-/// are rows). Returns a summary dict.
+/// are rows; the same defaults: `prehensile.defaults()["batch"]`). Returns a summary dict.
 #[pyfunction]
-#[pyo3(signature = (out, *, hands = vec!["human".to_string()], objects = None,
-    movements = vec!["auto".to_string()], shoulders = vec!["default".to_string()], seeds = 1,
-    units = "m", scale = 1.0, up = "z", friction = 0.5, validity = "holds", flush_rows = 256,
-    one_sided_patience = ONE_SIDED_PATIENCE))]
+#[pyo3(signature = (out, *, hands = vec![DEFAULT_HAND.to_string()], objects = None,
+    movements = vec![defaults::MOVEMENT.to_string()], shoulders = vec!["default".to_string()],
+    seeds = 1, units = "m", scale = 1.0, up = defaults::UP.name(), friction = defaults::FRICTION,
+    validity = defaults::VALIDITY.name(), flush_rows = FLUSH_ROWS,
+    one_sided_patience = defaults::ONE_SIDED_PATIENCE))]
 #[allow(clippy::too_many_arguments)]
 fn batch<'py>(
     py: Python<'py>,
@@ -869,43 +781,33 @@ fn batch<'py>(
     one_sided_patience: u32,
 ) -> PyResult<Bound<'py, PyDict>> {
     use prehensile_batch::{expand_objects, run_batch, BatchOptions, BatchPlan, Shoulder};
-    if seeds == 0 || seeds > 1_000_000 {
-        return Err(error(format!(
-            "seeds={seeds}: how many seeds, 1 to 1000000"
-        )));
-    }
-    let up = match up {
-        "x" | "y" | "z" => up.chars().next().expect("one letter"),
-        other => return Err(error(format!("up='{other}': use 'x', 'y' or 'z'"))),
-    };
     let objects = objects.unwrap_or_else(|| {
-        prehensile_core::shapes::BUILTIN_OBJECTS
-            .iter()
-            .map(|s| s.to_string())
-            .collect()
+        prehensile_formats::BUILTIN_OBJECTS
+            .map(String::from)
+            .to_vec()
     });
     let plan = BatchPlan {
         hands,
-        objects: expand_objects(&objects).map_err(error)?,
+        objects: expand_objects(&objects).map_err(raise)?,
         movements,
         shoulders: shoulders
             .iter()
             .map(|s| Shoulder::parse(s))
             .collect::<Result<_, _>>()
-            .map_err(error)?,
-        seeds: (1..=seeds).collect(),
+            .map_err(raise)?,
+        seeds: (1..=seeds.min(prehensile_batch::MAX_SEEDS + 1)).collect(),
         options: BatchOptions {
-            scale: units_factor(units)? * scale,
+            scale: length_factor(units, scale)?,
             weld: None,
-            up,
-            validity: validity_rule(validity)?,
+            up: up.parse().map_err(raise)?,
+            validity: validity.parse().map_err(raise)?,
             friction,
             one_sided_patience,
         },
     };
     let summary = py
         .detach(|| run_batch(&plan, &out, flush_rows, &()))
-        .map_err(error)?;
+        .map_err(raise)?;
     let d = PyDict::new(py);
     d.set_item("total", summary.total)?;
     d.set_item("already_done", summary.already_done)?;
@@ -921,7 +823,7 @@ fn batch<'py>(
 /// matches (both sorted), anything else stays as given.
 #[pyfunction]
 fn expand_objects(objects: Vec<String>) -> PyResult<Vec<String>> {
-    prehensile_batch::expand_objects(&objects).map_err(error)
+    prehensile_batch::expand_objects(&objects).map_err(raise)
 }
 
 /// The built-in hand and object names.
@@ -929,13 +831,53 @@ fn expand_objects(objects: Vec<String>) -> PyResult<Vec<String>> {
 fn builtins<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("hands", prehensile_formats::BUILTIN_HANDS.to_vec())?;
-    d.set_item("objects", prehensile_core::shapes::BUILTIN_OBJECTS.to_vec())?;
+    d.set_item("objects", prehensile_formats::BUILTIN_OBJECTS.to_vec())?;
     Ok(d)
+}
+
+/// The library's defaults of every function's arguments, by function: what the signatures and
+/// the type stubs must say (tested).
+#[pyfunction]
+#[pyo3(name = "defaults")]
+fn library_defaults<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+    let grasp = GraspOptions::default();
+    let settings = Settings::default();
+    let batch = prehensile_batch::BatchOptions::default();
+    let value = serde_json::json!({
+        "grasp": {
+            "movement": grasp.movement,
+            "up": grasp.up,
+            "seed": grasp.seed,
+            "friction": grasp.friction,
+            "validity": grasp.validity.name(),
+            "one_sided_patience": grasp.one_sided_patience,
+        },
+        "simulate": {
+            "scenario": sim_defaults::SCENARIO.name(),
+            "objects": sim_defaults::OBJECTS,
+            "alpha": sim_defaults::ALPHA,
+            "dt": settings.dt,
+            "friction": settings.friction,
+            "density": settings.object_density,
+            "candidates": sim_defaults::CANDIDATES,
+            "engine": Engine::default().name(),
+        },
+        "batch": {
+            "hands": [DEFAULT_HAND],
+            "movements": [defaults::MOVEMENT],
+            "up": batch.up,
+            "friction": batch.friction,
+            "validity": batch.validity.name(),
+            "flush_rows": FLUSH_ROWS,
+            "one_sided_patience": batch.one_sided_patience,
+        },
+    });
+    to_python(py, &value)
 }
 
 #[pymodule]
 fn _prehensile(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add("PrehensileError", m.py().get_type::<PrehensileError>())?;
+    errors::register(m)?;
     m.add_class::<Hand>()?;
     m.add_class::<Object>()?;
     m.add_class::<GraspResultPy>()?;
@@ -945,6 +887,7 @@ fn _prehensile(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(batch, m)?)?;
     m.add_function(wrap_pyfunction!(builtins, m)?)?;
+    m.add_function(wrap_pyfunction!(library_defaults, m)?)?;
     m.add_function(wrap_pyfunction!(expand_objects, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

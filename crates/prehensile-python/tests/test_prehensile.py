@@ -71,24 +71,69 @@ def test_an_object_from_arrays_grasps_like_the_same_object_from_its_name():
     assert small.volume == pytest.approx(mug.volume, rel=1e-9)
 
 
-def test_bad_inputs_raise_with_the_clis_messages(tmp_path):
-    with pytest.raises(prehensile.PrehensileError, match="did you mean 'human'"):
+def test_bad_inputs_raise_the_exception_of_their_kind_with_the_clis_messages(tmp_path):
+    with pytest.raises(prehensile.FileFormatError, match="did you mean 'human'"):
         prehensile.Hand("humna")
-    with pytest.raises(prehensile.PrehensileError, match="has no movement 'wave'"):
+    with pytest.raises(prehensile.ParameterError, match="has no movement 'wave'"):
         prehensile.grasp("human", "sphere", "wave")
     broken = tmp_path / "broken.obj"
     broken.write_text("v 0 0 0\nf 1 2 3\n")
-    with pytest.raises(prehensile.PrehensileError, match="broken.obj"):
+    with pytest.raises(prehensile.FileFormatError, match="broken.obj"):
         prehensile.Object(str(broken))
-    with pytest.raises(prehensile.PrehensileError, match="vertex 7"):
+    with pytest.raises(prehensile.MeshError, match="vertex 7"):
         prehensile.Object.from_arrays(np.zeros((3, 3)), np.array([[0, 1, 7]]))
-    with pytest.raises(prehensile.PrehensileError, match="not finite|NaN|infinite"):
+    with pytest.raises(prehensile.MeshError, match="not finite|NaN|infinite"):
         prehensile.Object.from_arrays(np.array([[0, 0, 0], [1, 0, 0], [np.nan, 1, 0]]),
                                       np.array([[0, 1, 2]]))
-    with pytest.raises(prehensile.PrehensileError, match="weights"):
+    with pytest.raises(prehensile.ParameterError, match="weights"):
         prehensile.grasp("human", "sphere", weights=[1, 2])
-    with pytest.raises(prehensile.PrehensileError, match="budget_ms"):
+    with pytest.raises(prehensile.ParameterError, match="all are zero"):
+        prehensile.grasp("human", "sphere", weights=[0, 0, 0, 0])
+    with pytest.raises(prehensile.ParameterError, match="budget_ms"):
         prehensile.grasp("human", "sphere", budget_ms=float("inf"))
+    with pytest.raises(prehensile.ParameterError, match="unknown up axis 'w'"):
+        prehensile.grasp("human", "sphere", up="w")
+    with pytest.raises(prehensile.ParameterError, match="unknown unit 'inch'"):
+        prehensile.Object("sphere", units="inch")
+    with pytest.raises(prehensile.SearchError, match="cannot be grasped with one hand"):
+        prehensile.grasp("human", prehensile.Object("box", scale=20))
+    # Every kind is a PrehensileError.
+    for kind in (prehensile.ParameterError, prehensile.FileFormatError, prehensile.HandError,
+                 prehensile.MeshError, prehensile.SearchError, prehensile.SimulationError,
+                 prehensile.BatchError):
+        assert issubclass(kind, prehensile.PrehensileError)
+
+
+def test_signatures_and_stubs_say_the_librarys_defaults():
+    """The compiled functions take their defaults from the library's constants (their signatures
+    show a literal where pyo3 can render one, `...` where the default is a constant), and the
+    type stubs shipped beside them restate them: both must be the library's own
+    (`prehensile.defaults()`)."""
+    import ast
+    import inspect
+
+    library = prehensile.defaults()
+    stub_path = os.path.join(os.path.dirname(prehensile.__file__), "_prehensile.pyi")
+    stub = ast.parse(open(stub_path).read())
+    stub_defaults = {}
+    for node in ast.walk(stub):
+        if isinstance(node, ast.FunctionDef):
+            args = node.args
+            named = args.args[len(args.args) - len(args.defaults):] + args.kwonlyargs
+            values = args.defaults + args.kw_defaults
+            stub_defaults[node.name] = {
+                a.arg: v.value for a, v in zip(named, values) if isinstance(v, ast.Constant)}
+    checked = 0
+    for function, values in library.items():
+        signature = inspect.signature(getattr(prehensile, function))
+        for name, value in values.items():
+            if isinstance(value, list):
+                continue  # list defaults are `...` in the stubs; the signature holds them
+            parameter = signature.parameters[name]
+            assert parameter.default in (value, Ellipsis), (function, name, parameter.default)
+            assert stub_defaults[function][name] == value, (function, name)
+            checked += 1
+    assert checked >= 15
 
 
 def test_the_search_releases_the_gil():
@@ -126,7 +171,7 @@ def test_the_planner_runs_step_by_step_and_restarts_when_the_shoulder_moves():
     opposite[2] = shoulder[2]
     assert planner.set_shoulder(list(opposite)) is True
     assert planner.status == "searching"
-    with pytest.raises(prehensile.PrehensileError, match="auto"):
+    with pytest.raises(prehensile.ParameterError, match="auto"):
         prehensile.Planner("human", "box", "auto")
 
 
@@ -147,7 +192,7 @@ def test_simulate_holds_the_sphere():
     assert case["metrics"]["hold_check_held"] == 1.0
     unchecked = prehensile.simulate("grasp", objects=["sphere"], candidates=1)
     assert unchecked["cases"][0]["metrics"]["hold_check_tried"] == 0.0
-    with pytest.raises(prehensile.PrehensileError, match="candidates=0"):
+    with pytest.raises(prehensile.ParameterError, match="candidates = 0 is outside"):
         prehensile.simulate("grasp", objects=["sphere"], candidates=0)
     assert report["engine"] == "reduced"
 
@@ -156,7 +201,7 @@ def test_simulate_on_rapier():
     report = prehensile.simulate("grasp", objects=["sphere"], engine="rapier")
     assert report["engine"] == "rapier"
     assert report["cases"][0]["held"] is True
-    with pytest.raises(prehensile.PrehensileError, match="unknown engine 'bullet'"):
+    with pytest.raises(prehensile.ParameterError, match="unknown engine 'bullet'"):
         prehensile.simulate("grasp", objects=["sphere"], engine="bullet")
 
 

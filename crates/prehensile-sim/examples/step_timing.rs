@@ -21,7 +21,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args: Vec<String> = std::env::args().skip(1).collect();
     let engine = if args.first().is_some_and(|a| a == "--engine") && args.len() > 1 {
         let name = args.drain(..2).nth(1).unwrap_or_default();
-        Engine::from_name(&name).ok_or_else(|| format!("unknown engine '{name}'"))?
+        name.parse::<Engine>().map_err(|e| e.to_string())?
     } else {
         Engine::default()
     };

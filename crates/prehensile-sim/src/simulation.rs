@@ -6,135 +6,20 @@
 
 use prehensile_control::{
     ball_joint_coupling, joint_springs, outboard_inertia_into, ControllerState, DynamicsData,
-    DynamicsModel, GraspController, GraspState, JointSpring, Setpoint,
+    DynamicsError, DynamicsModel, GraspController, GraspState, JointSpring, Setpoint,
 };
 use prehensile_core::animation::Keyframe;
-use prehensile_core::math::{Point3, Rotation, Transform, Vec3};
+use prehensile_core::math::{Point3, Rotation, Transform};
 use prehensile_core::{HandModel, ObjectModel};
 
-use crate::arm_trajectory::ArmTrajectory;
-use crate::articulated_hand::check_hand;
-use crate::physics_engine::{Engine, HandDrive, PhysicsEngine};
-use crate::rapier_world::RapierWorld;
-use crate::reduced_world::ReducedWorld;
-use crate::SimError;
-
-/// World settings.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Settings {
-    /// Time step, seconds.
-    pub dt: f64,
-    /// Gravity, world, m/s² (default 9.81 down −z).
-    pub gravity: Vec3,
-    /// Friction coefficient of skin and objects (one for both; rapier combines its colliders'
-    /// as their mean, the same here).
-    pub friction: f64,
-    /// Object density, kg/m³ (default 20, like expanded polystyrene: with Table 1's gains the
-    /// hand squeezes with 0.03–0.62 N for α 0–0.5, enough for objects of a few grams).
-    pub object_density: f64,
-    /// Solver substeps per step (rapier's solver iterations); [`Settings::for_step`] chooses
-    /// them for a step length. The reduced engine takes one step and sweeps its contacts until
-    /// they settle (at most 10 sweeps), whatever this says.
-    pub solver_iterations: usize,
-    /// Gauss–Seidel sweeps over the constraints in each substep (rapier's internal PGS
-    /// iterations); [`Settings::for_step`] chooses them for a step length. Rapier's only, as
-    /// `solver_iterations`.
-    pub inner_iterations: usize,
-    /// Frames per second of the recording (for animation export).
-    pub record_fps: f64,
-    /// The engine that steps the world.
-    pub engine: Engine,
-}
-
-impl Default for Settings {
-    /// [`Settings::for_step`] of 1 ms.
-    fn default() -> Self {
-        Self::for_step(1e-3)
-    }
-}
-
-impl Settings {
-    /// The default settings for a step of `dt` seconds, with the solver chosen for it
-    /// ([`Settings::iterations_for`], [`Settings::inner_iterations_for`]).
-    pub fn for_step(dt: f64) -> Self {
-        Self {
-            dt,
-            gravity: Vec3::new(0.0, 0.0, -9.81),
-            friction: 1.0,
-            object_density: 20.0,
-            solver_iterations: Self::iterations_for(dt),
-            inner_iterations: Self::inner_iterations_for(dt),
-            record_fps: 60.0,
-            engine: Engine::default(),
-        }
-    }
-
-    /// The solver substeps for a step of `dt` seconds: one per millisecond and at least one,
-    /// so 1 at the paper's 0.2 ms and at 1 ms. A substep rebuilds every joint's constraint and
-    /// a sweep only solves them again, so one substep of 1 ms with enough sweeps
-    /// ([`Settings::inner_iterations_for`]) keeps every scenario's outcome 1.1× faster than
-    /// two of 0.5 ms with 3 sweeps each (docs/PERFORMANCE.md).
-    pub fn iterations_for(dt: f64) -> usize {
-        if dt.is_finite() && dt > 0.0 {
-            (dt / 1e-3 - 1e-9).ceil().clamp(1.0, 100.0) as usize
-        } else {
-            1
-        }
-    }
-
-    /// The Gauss–Seidel sweeps per substep for a step of `dt` seconds: one per 0.125 ms of
-    /// substep and at least 3, so 3 at 0.2 ms and 8 at 1 ms. A hand is a chain of joints that
-    /// one sweep leaves unconverged, and a longer substep needs more sweeps: with one substep
-    /// every grasp held at 0.2 ms with 3 sweeps, while at 1 ms the human hand dropped the
-    /// cylinder with 6 and held it with 7 or more (docs/PERFORMANCE.md).
-    pub fn inner_iterations_for(dt: f64) -> usize {
-        let substep = if dt.is_finite() && dt > 0.0 {
-            dt / Self::iterations_for(dt) as f64
-        } else {
-            0.0
-        };
-        ((substep / 0.125e-3 - 1e-9).ceil() as usize).clamp(3, 100)
-    }
-
-    /// Refuses settings that cannot give a meaningful run.
-    pub fn check(&self) -> Result<(), SimError> {
-        let bad = |what: &str, hint: &str| Err(SimError::Settings(format!("{what}: {hint}")));
-        if !(self.dt.is_finite() && self.dt > 0.0) {
-            return bad(
-                &format!("time step {}", self.dt),
-                "give a positive step, e.g. 0.001",
-            );
-        }
-        if self.dt < 1e-5 {
-            return bad(
-                &format!("time step {} s is too small", self.dt),
-                "give at least 1e-5 s (0.2–1 ms is typical); smaller steps only take longer",
-            );
-        }
-        if self.dt > 0.01 {
-            return bad(
-                &format!("time step {} s is too large", self.dt),
-                "fingers need steps of at most 10 ms (0.2–1 ms is typical)",
-            );
-        }
-        if !self.gravity.iter().all(|g| g.is_finite()) {
-            return bad("gravity", "must be finite");
-        }
-        if !(self.friction.is_finite() && self.friction >= 0.0) {
-            return bad(&format!("friction {}", self.friction), "must be ≥ 0");
-        }
-        if !(self.object_density.is_finite() && self.object_density > 0.0) {
-            return bad(&format!("density {}", self.object_density), "must be > 0");
-        }
-        if self.solver_iterations == 0 || self.solver_iterations > 100 {
-            return bad("solver iterations", "give 1 to 100");
-        }
-        if self.inner_iterations == 0 || self.inner_iterations > 100 {
-            return bad("inner solver iterations", "give 1 to 100");
-        }
-        Ok(())
-    }
-}
+use crate::error::{Divergence, SimError};
+use crate::rapier::articulated_hand::check_hand;
+use crate::rapier::world::RapierWorld;
+use crate::reduced::world::ReducedWorld;
+use crate::world::arm_trajectory::ArmTrajectory;
+use crate::world::contacts::Contacts;
+use crate::world::engine::{HandDrive, PhysicsEngine};
+use crate::world::settings::{Engine, Settings};
 
 /// What a hand's controller measures its distance to (the paper's "distance from hand to
 /// object", which drives the state machine).
@@ -193,19 +78,6 @@ pub struct StateChange {
     pub distance: f64,
 }
 
-/// Contact between a hand and the object or another hand during one step.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct Contacts {
-    /// Total normal force, newtons.
-    pub force: f64,
-    /// Deepest penetration, metres (0 without contact).
-    pub penetration: f64,
-    /// Number of hand colliders touching.
-    pub touching: usize,
-    /// Normal force on each bone, newtons.
-    pub bone_forces: Vec<f64>,
-}
-
 struct SimHand {
     setup: HandSetup,
     q: Vec<f64>,
@@ -221,6 +93,9 @@ struct SimHand {
     springs: Vec<JointSpring>,
     coupling: Vec<f64>,
 }
+
+/// The most hands a world takes.
+const MAX_HANDS: usize = 30;
 
 /// A running simulation.
 pub struct Simulation {
@@ -276,10 +151,10 @@ impl Simulation {
                 .chain(s.velocities.values())
                 .all(|v| v.len() == n);
         if !lengths_ok {
-            return Err(SimError::Settings(format!(
-                "hand '{}' has {n} degrees of freedom; the start pose and every setpoint need {n} values",
-                hand.name()
-            )));
+            return Err(SimError::ControllerLength {
+                hand: hand.name().to_string(),
+                dofs: n,
+            });
         }
         let mut numbers = s
             .positions
@@ -290,13 +165,13 @@ impl Simulation {
             .flatten()
             .chain(s.limits.iter().flatten());
         if let Some(k) = numbers.position(|v| !v.is_finite()) {
-            return Err(SimError::Settings(format!(
-                "hand '{}': a setpoint, limit or start angle is not finite (value {k} of them)",
-                hand.name()
-            )));
+            return Err(SimError::ControllerNotFinite {
+                hand: hand.name().to_string(),
+                index: k,
+            });
         }
-        if self.hands.len() >= 30 {
-            return Err(SimError::Settings("at most 30 hands".into()));
+        if self.hands.len() >= MAX_HANDS {
+            return Err(SimError::TooManyHands(MAX_HANDS));
         }
         self.engine
             .add_hand(hand, &setup.arm.at(0.0), &setup.start)?;
@@ -553,10 +428,13 @@ impl Simulation {
     }
 }
 
-fn diverged(time: f64, hand: usize, e: impl std::fmt::Display) -> SimError {
+fn diverged(time: f64, hand: usize, error: DynamicsError) -> SimError {
     SimError::Diverged {
         time,
-        what: format!("hand {hand}: {e}"),
+        what: Divergence::Dynamics {
+            hand,
+            error: Box::new(error),
+        },
     }
 }
 
@@ -566,10 +444,10 @@ mod tests {
     //! (rapier's own `PhysicsWorld::step` allocates about ten times a step inside its pipeline;
     //! that is not ours to change).
 
-    use prehensile_core::allocation_count::{
+    use prehensile_core::{shapes, ObjectModel};
+    use prehensile_testkit::allocation_count::{
         allocations_on_this_thread as allocations, CountingAllocator,
     };
-    use prehensile_core::{shapes, ObjectModel};
 
     use crate::scenarios::held_still;
     use crate::{Engine, Settings, Simulation};

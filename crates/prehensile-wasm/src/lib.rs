@@ -11,7 +11,7 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use prehensile_core::math::Point3;
-use prehensile_core::search::{default_shoulder, PlannerStatus, SearchParams, SharedPlanner};
+use prehensile_core::search::{default_movement, GraspOptions, PlannerStatus, SharedPlanner};
 use prehensile_core::{HandModel, ObjectModel};
 use prehensile_formats::SkinnedMesh;
 use wasm_bindgen::prelude::*;
@@ -187,22 +187,21 @@ impl Session {
         movement: &str,
         seed: u64,
     ) -> Result<Session, JsError> {
-        // No movement named: the hand's power grasp, else its first movement.
         let movement = match movement {
-            "" => hand
-                .movement("power")
-                .or_else(|| hand.movements().first())
-                .map(|m| m.name().to_string())
-                .ok_or_else(|| js(format!("hand '{}' has no movements", hand.name())))?,
+            "" => default_movement(&hand).map_err(js)?.name().to_string(),
             m => m.to_string(),
         };
         let movement = movement.as_str();
-        let params = SearchParams {
+        // The library's defaults, on the calling thread (the page's worker).
+        let options = GraspOptions {
+            movement: movement.to_string(),
             seed,
-            ..SearchParams::default()
+            threads: Some(1),
+            ..GraspOptions::default()
         };
-        let shoulder = default_shoulder(&hand, &object.hooks()[0], &params.up);
-        let planner = SharedPlanner::new(hand, object, movement, shoulder, params).map_err(js)?;
+        let request = options.request(&hand, &object).map_err(js)?;
+        let planner = SharedPlanner::new(hand, object, movement, request.shoulder, request.params)
+            .map_err(js)?;
         Ok(Session {
             planner,
             movement: movement.to_string(),

@@ -4,8 +4,8 @@ use std::sync::Mutex;
 
 use indicatif::{ProgressBar, ProgressStyle};
 use prehensile_batch::{
-    expand_objects, run_batch, AttemptRow, AttemptStatus, BatchOptions, BatchPlan, BatchProgress,
-    Shoulder,
+    expand_objects, run_batch, AttemptRow, AttemptStatus, BatchError, BatchOptions, BatchPlan,
+    BatchProgress, Shoulder, MAX_SEEDS,
 };
 
 use crate::args::BatchArgs;
@@ -46,32 +46,21 @@ impl BatchProgress for Bar {
 
 /// Runs `prehensile batch`.
 pub fn run(args: &BatchArgs) -> Result<i32, CliError> {
-    if args.seeds == 0 || args.seeds > 1_000_000 {
-        return Err(CliError::Usage(format!(
-            "--seeds {}: give how many seeds to run, 1 to 1000000",
-            args.seeds
-        )));
-    }
-    let up = match args.up.as_str() {
-        "x" => 'x',
-        "y" => 'y',
-        "z" => 'z',
-        other => return Err(CliError::Usage(format!("--up {other}: use x, y or z"))),
-    };
     let plan = BatchPlan {
         hands: args.hands.clone(),
-        objects: expand_objects(&args.objects)?,
+        objects: expand_objects(&args.objects).map_err(BatchError::from)?,
         movements: args.movements.clone(),
         shoulders: args
             .shoulders
             .iter()
             .map(|s| Shoulder::parse(s))
-            .collect::<Result<_, _>>()?,
-        seeds: (1..=args.seeds).collect(),
+            .collect::<Result<_, _>>()
+            .map_err(BatchError::from)?,
+        seeds: (1..=args.seeds.min(MAX_SEEDS + 1)).collect(),
         options: BatchOptions {
             scale: args.mesh_options.factor(),
             weld: args.mesh_options.weld,
-            up,
+            up: args.up,
             validity: args.validity,
             friction: args.friction,
             one_sided_patience: args.one_sided_patience,
@@ -88,9 +77,8 @@ pub fn run(args: &BatchArgs) -> Result<i32, CliError> {
     };
     let mut pool = rayon::ThreadPoolBuilder::new();
     if let Some(n) = args.threads {
-        if n == 0 || n > 4096 {
-            return Err(CliError::Usage(format!("--threads {n}: use 1 to 4096")));
-        }
+        let most = prehensile_core::search::defaults::MAX_THREADS as f64;
+        prehensile_core::parameter::in_range("threads", n as f64, 1.0, most, "")?;
         pool = pool.num_threads(n);
     }
     let pool = pool

@@ -9,11 +9,24 @@ use prehensile_control::{
 use prehensile_core::math::Vec3;
 use prehensile_core::HandModel;
 
+use prehensile_formats::Outputs;
+
 use crate::args::FitArgs;
 use crate::{sources, CliError};
 
 /// Runs the command.
 pub fn run(args: &FitArgs) -> Result<i32, CliError> {
+    let mut outputs = Outputs::reading(
+        [Some(args.hand.as_ref()), args.motion.as_deref()]
+            .into_iter()
+            .flatten()
+            .map(std::path::Path::new),
+    );
+    outputs.claim(&args.out)?;
+    let example_path = args.out.with_extension("motion.json");
+    if args.motion.is_none() {
+        outputs.claim(&example_path)?;
+    }
     let hand = sources::hand(&args.hand)?;
     let gains = Gains::grasp();
     let (motion, open_while_closing) = match &args.motion {
@@ -22,12 +35,11 @@ pub fn run(args: &FitArgs) -> Result<i32, CliError> {
             let object = sources::object(&args.object, 1.0, None)?;
             let grasp = prehensile_sim::scenarios::plan_grasp(&hand, &object)?;
             let motion = grasp.example(&hand, &gains);
-            let path = args.out.with_extension("motion.json");
             let json = serde_json::to_string_pretty(&motion)?;
-            super::write_file(&path, json.as_bytes())?;
+            outputs.write(&example_path, json.as_bytes())?;
             out!(
                 "wrote {} (the synthetic example of a grasp of '{}')",
-                path.display(),
+                example_path.display(),
                 object.name()
             );
             (motion, true)
@@ -37,7 +49,7 @@ pub fn run(args: &FitArgs) -> Result<i32, CliError> {
     let base = BaseMotion::at_rest(Vec3::new(0.0, 0.0, -9.81));
     let controller = fit_controller(&hand, &motion, gains, open_while_closing, &base)?;
     let text = ControllerFile::new(&hand, &controller).to_toml();
-    super::write_file(&args.out, text.as_bytes())?;
+    outputs.write(&args.out, text.as_bytes())?;
     out!(
         "fitted {} frames ({:.2} s) for hand '{}'; wrote {}",
         motion.frames.len(),
@@ -59,9 +71,7 @@ fn read_motion(hand: &HandModel, path: &Path) -> Result<Motion, CliError> {
         let motion: Motion = serde_json::from_str(&text).map_err(|e| {
             CliError::Usage(format!("{source}: {e} (expected {MOTION_SCHEMA} JSON)"))
         })?;
-        motion
-            .check(hand.dof_names())
-            .map_err(|e| CliError::Usage(format!("{source}: {e}")))?;
+        motion.check(hand.dof_names())?;
         return Ok(motion);
     }
     let bvh = prehensile_formats::parse_bvh(&text, &source)?;
@@ -94,8 +104,6 @@ fn read_motion(hand: &HandModel, path: &Path) -> Result<Motion, CliError> {
         distances,
         release_frame: None,
     };
-    motion
-        .check(hand.dof_names())
-        .map_err(|e| CliError::Usage(format!("{source}: {e}")))?;
+    motion.check(hand.dof_names())?;
     Ok(motion)
 }

@@ -3,20 +3,17 @@
 use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressStyle};
-use prehensile_core::math::{Point3, Vec3};
-use prehensile_core::search::default_shoulder;
+use prehensile_core::animation::{result_keyframes, Keyframe};
 use prehensile_core::search::{
-    find_grasp, Evaluation, GraspRequest, GraspResult, PlannerStatus, QualityWeights, SearchParams,
-    SearchSink, SearchStats,
+    find_grasp, Evaluation, GraspOptions, GraspRequest, GraspResult, PlannerStatus, SearchSink,
+    SearchStats,
 };
-use prehensile_core::stability::ContactModel;
 use prehensile_core::{HandModel, ObjectModel};
+use prehensile_formats::Outputs;
+use prehensile_sim::scenarios::{hold_test_of_result, HoldReport};
 
 use crate::args::GraspArgs;
 use crate::{picture, sources, CliError};
-
-/// The largest `--budget-ms`: a day.
-const MAX_BUDGET_MS: f64 = 86_400_000.0;
 
 /// Shows the search's progress on a spinner.
 struct SpinnerSink {
@@ -75,34 +72,9 @@ pub fn search(
     Ok((result?, began.elapsed()))
 }
 
-/// Keyframes of the result: approach from 10 cm back over one second, close over one second.
-fn keyframes(
-    hand: &HandModel,
-    result: &GraspResult,
-) -> Result<Vec<prehensile_core::animation::Keyframe>, CliError> {
-    let movement = hand.movement(&result.movement).ok_or_else(|| {
-        CliError::Usage(format!(
-            "the result names movement '{}', which the hand lacks",
-            result.movement
-        ))
-    })?;
-    let q = result.hook_rotation_xyzw;
-    let hook = prehensile_core::math::Transform::from_parts(
-        Point3::from(result.hook).coords.into(),
-        nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
-            q[3], q[0], q[1], q[2],
-        )),
-    );
-    let fractions: Vec<f64> = result.bones.iter().map(|b| b.fraction).collect();
-    Ok(prehensile_core::animation::approach_and_close(
-        hand,
-        movement,
-        &hook,
-        result.offset,
-        &fractions,
-        0.1,
-        12,
-    ))
+/// Keyframes of the result ([`result_keyframes`]).
+fn keyframes(hand: &HandModel, result: &GraspResult) -> Result<Vec<Keyframe>, CliError> {
+    Ok(result_keyframes(hand, result)?)
 }
 
 /// The grasp as a glTF binary scene with the approach-and-close animation.
@@ -120,28 +92,41 @@ pub fn glb_bytes(
     ))
 }
 
-/// Parses `--up`.
-pub fn up_axis(s: &str) -> Result<Vec3, CliError> {
-    match s {
-        "x" => Ok(Vec3::x()),
-        "y" => Ok(Vec3::y()),
-        "z" => Ok(Vec3::z()),
-        other => Err(CliError::Usage(format!("--up {other}: use x, y or z"))),
+/// The request as the user gave it: the library checks and resolves it.
+fn grasp_options(args: &GraspArgs) -> GraspOptions {
+    GraspOptions {
+        movement: args.movement.clone(),
+        hook: args.hook,
+        shoulder: args.shoulder,
+        up: args.up,
+        seed: args.seed,
+        threads: args.threads,
+        weights: args.weights.clone(),
+        friction: args.friction,
+        validity: args.validity,
+        one_sided_patience: args.one_sided_patience,
+        budget_ms: args.budget_ms,
     }
 }
 
-/// Runs `prehensile grasp`.
-pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
-    let setup = Instant::now();
-    let hold_engine = prehensile_sim::Engine::from_name(&args.hold_engine).ok_or_else(|| {
-        CliError::Usage(format!(
-            "unknown --hold-engine '{}'; choose one of {}",
-            args.hold_engine,
-            prehensile_sim::Engine::NAMES.join(", ")
-        ))
-    })?;
-    // The hand and the object need nothing of each other: read and set up side by side (a
-    // scan's setup and a robot hand's file each take milliseconds).
+/// The output files, checked against the inputs before anything is searched.
+fn claim_outputs(args: &GraspArgs) -> Result<Outputs, CliError> {
+    let mut outputs = Outputs::reading([&args.hand, &args.object]);
+    for path in [&args.out, &args.svg, &args.glb, &args.bvh]
+        .into_iter()
+        .flatten()
+    {
+        outputs.claim(path)?;
+    }
+    Ok(outputs)
+}
+
+/// The hand and the object, read and set up side by side (a scan's setup and a robot hand's
+/// file each take milliseconds), the object hung from the requested hook.
+fn load_inputs(
+    args: &GraspArgs,
+    options: &GraspOptions,
+) -> Result<(HandModel, ObjectModel), CliError> {
     let (hand, object) = rayon::join(
         || sources::hand(&args.hand),
         || {
@@ -153,81 +138,31 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
         },
     );
     let (hand, mut object) = (hand?, object?);
-    if let Some(h) = args.hook {
-        object = object.with_hooks(vec![Point3::from(h)])?;
+    if let Some(hook) = options.hook_point()? {
+        object = object.with_hooks(vec![hook])?;
     }
-    let up = up_axis(&args.up)?;
-    let hook = object.hooks()[0];
-    let shoulder = args
-        .shoulder
-        .map(Point3::from)
-        .unwrap_or_else(|| default_shoulder(&hand, &hook, &up));
-    let budget = match args.budget_ms {
-        Some(ms) if ms.is_finite() && ms > 0.0 && ms <= MAX_BUDGET_MS => {
-            Some(Duration::from_secs_f64(ms / 1000.0))
-        }
-        Some(ms) => {
-            return Err(CliError::Usage(format!(
-                "--budget-ms {ms:e} must be a positive number of milliseconds, at most {MAX_BUDGET_MS} (a day)"
-            )))
-        }
-        None => None,
-    };
-    if args.threads == Some(0) {
-        return Err(CliError::Usage(
-            "--threads 0: use 1 or more (the default is one per core)".into(),
-        ));
-    }
-    let request = GraspRequest {
-        movement: args.movement.clone(),
-        shoulder,
-        params: SearchParams {
-            seed: args.seed,
-            up,
-            weights: args
-                .weights
-                .map(|[gdist, fdist, tdist, wdist, stability]| QualityWeights {
-                    gdist,
-                    fdist,
-                    tdist,
-                    wdist,
-                    stability,
-                }),
-            validity: args.validity,
-            one_sided_patience: args.one_sided_patience,
-            contact_model: ContactModel {
-                friction: args.friction,
-                ..ContactModel::default()
-            },
-            threads: args
-                .threads
-                .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, usize::from)),
-            ..SearchParams::default()
-        },
-        budget,
-    };
     if args.fill_grid {
         object.collider().fill_grid();
     }
-    let setup_ms = setup.elapsed().as_secs_f64() * 1e3;
-    let (result, took) = search(&hand, &object, &request, true)?;
-    let hold = if args.hold {
-        Some(prehensile_sim::scenarios::hold_test_of_result(
-            &hand,
-            &object,
-            &result,
-            hold_engine,
-        )?)
-    } else {
-        None
-    };
-    let mut record = serde_json::to_value(&result)?;
-    if let (Some(h), Some(map)) = (&hold, record.as_object_mut()) {
+    Ok((hand, object))
+}
+
+/// Writes every output asked for: the JSON (to standard output when no file is asked for), the
+/// glTF scene, the BVH motion and the SVG picture.
+fn write_outputs(
+    args: &GraspArgs,
+    outputs: &Outputs,
+    (hand, object): (&HandModel, &ObjectModel),
+    result: &GraspResult,
+    hold: Option<&HoldReport>,
+) -> Result<(), CliError> {
+    let mut record = serde_json::to_value(result)?;
+    if let (Some(h), Some(map)) = (hold, record.as_object_mut()) {
         map.insert("hold".into(), serde_json::to_value(h)?);
     }
     let json = serde_json::to_string_pretty(&record)?;
     match &args.out {
-        Some(path) => std::fs::write(path, &json).map_err(crate::CliError::file("write", path))?,
+        Some(path) => outputs.write(path, json.as_bytes())?,
         None if args.svg.is_none() && args.glb.is_none() && args.bvh.is_none() => {
             out!("{json}")
         }
@@ -243,17 +178,52 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
         } else {
             None
         };
-        std::fs::write(path, glb_bytes(&hand, &object, &result, skin.as_ref())?)
-            .map_err(crate::CliError::file("write", path))?;
+        outputs.write(path, &glb_bytes(hand, object, result, skin.as_ref())?)?;
     }
     if let Some(path) = &args.bvh {
-        let text = prehensile_formats::write_bvh(&hand, &keyframes(&hand, &result)?, 12.0);
-        std::fs::write(path, text).map_err(crate::CliError::file("write", path))?;
+        let text = prehensile_formats::write_bvh(hand, &keyframes(hand, result)?, 12.0);
+        outputs.write(path, text.as_bytes())?;
     }
     if let Some(path) = &args.svg {
-        std::fs::write(path, picture::grasp_svg(&object, &result))
-            .map_err(crate::CliError::file("write", path))?;
+        outputs.write(path, picture::grasp_svg(object, result).as_bytes())?;
     }
+    Ok(())
+}
+
+/// Runs `prehensile grasp`.
+pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
+    let setup = Instant::now();
+    let outputs = claim_outputs(args)?;
+    let options = grasp_options(args);
+    let (hand, object) = load_inputs(args, &options)?;
+    let request = options.request(&hand, &object)?;
+    let setup_ms = setup.elapsed().as_secs_f64() * 1e3;
+    let (result, took) = search(&hand, &object, &request, true)?;
+    let hold = if args.hold {
+        Some(hold_test_of_result(
+            &hand,
+            &object,
+            &result,
+            args.hold_engine,
+        )?)
+    } else {
+        None
+    };
+    write_outputs(args, &outputs, (&hand, &object), &result, hold.as_ref())?;
+    print_summary(args, (&hand, &object), &result, (took, setup_ms));
+    if let Some(h) = &hold {
+        print_hold(h);
+    }
+    Ok(if result.valid { 0 } else { 1 })
+}
+
+/// One line on standard error: the grasp, its fingers and the time it took.
+fn print_summary(
+    args: &GraspArgs,
+    (hand, object): (&HandModel, &ObjectModel),
+    result: &GraspResult,
+    (took, setup_ms): (Duration, f64),
+) {
     let status = if result.valid {
         "valid grasp".to_string()
     } else {
@@ -283,21 +253,22 @@ pub fn run(args: &GraspArgs) -> Result<i32, CliError> {
             result.stats.steps
         );
     }
-    if let Some(h) = &hold {
-        let held: Vec<&str> = h
-            .directions
-            .iter()
-            .filter(|d| d.held)
-            .map(|d| d.direction)
-            .collect();
-        eprintln!(
-            "hold test ({} engine, alpha {}, {:.1} g object): held against gravity along {} of 6 directions ({})",
-            h.engine.name(),
-            h.alpha,
-            h.object_mass_kg * 1e3,
-            h.held,
-            if held.is_empty() { "none".to_string() } else { held.join(" ") }
-        );
-    }
-    Ok(if result.valid { 0 } else { 1 })
+}
+
+/// One line on standard error: what the hold test held.
+fn print_hold(h: &HoldReport) {
+    let held: Vec<&str> = h
+        .directions
+        .iter()
+        .filter(|d| d.held)
+        .map(|d| d.direction)
+        .collect();
+    eprintln!(
+        "hold test ({} engine, alpha {}, {:.1} g object): held against gravity along {} of 6 directions ({})",
+        h.engine.name(),
+        h.alpha,
+        h.object_mass_kg * 1e3,
+        h.held,
+        if held.is_empty() { "none".to_string() } else { held.join(" ") }
+    );
 }

@@ -2,30 +2,18 @@
 //! progress bar, a JSON report and optional animations.
 
 use indicatif::{ProgressBar, ProgressStyle};
-use prehensile_sim::scenarios::{self, Options, Scenario};
-use prehensile_sim::{Engine, Settings};
+use prehensile_formats::Outputs;
+use prehensile_sim::scenarios::{self, Options, Recording, RunReport};
+use prehensile_sim::{Engine, RapierSettings, Settings};
 
-use super::write_file as write;
 use crate::args::SimulateArgs;
 use crate::{sources, CliError};
 
-/// Runs the command; exit code 0, or 1 when the run diverged.
-pub fn run(args: &SimulateArgs) -> Result<i32, CliError> {
-    let scenario = Scenario::from_name(&args.scenario).ok_or_else(|| {
-        CliError::Usage(format!(
-            "unknown scenario '{}'; choose one of {}",
-            args.scenario,
-            Scenario::NAMES.join(", ")
-        ))
-    })?;
-    let engine = Engine::from_name(&args.engine).ok_or_else(|| {
-        CliError::Usage(format!(
-            "unknown engine '{}'; choose one of {}",
-            args.engine,
-            Engine::NAMES.join(", ")
-        ))
-    })?;
-    if engine == Engine::Reduced && (args.iterations.is_some() || args.inner_iterations.is_some()) {
+/// The run as the user gave it: the library checks it.
+fn options(args: &SimulateArgs) -> Result<Options, CliError> {
+    if args.engine == Engine::Reduced
+        && (args.iterations.is_some() || args.inner_iterations.is_some())
+    {
         return Err(CliError::Usage(
             "--iterations and --inner-iterations set rapier's solver, and the reduced engine has \
              none (it sweeps its contacts until they settle): drop them, or add --engine rapier"
@@ -35,7 +23,7 @@ pub fn run(args: &SimulateArgs) -> Result<i32, CliError> {
     let hand = sources::hand(&args.hand)?;
     let objects = args
         .object
-        .split(',')
+        .iter()
         .map(|spec| {
             sources::object(
                 spec.trim(),
@@ -44,25 +32,37 @@ pub fn run(args: &SimulateArgs) -> Result<i32, CliError> {
             )
         })
         .collect::<Result<Vec<_>, _>>()?;
-    let options = Options {
+    let step = RapierSettings::for_step(args.dt);
+    Ok(Options {
         hand,
         objects,
         alpha: args.alpha,
         settings: Settings {
             friction: args.friction,
             object_density: args.density,
-            solver_iterations: args
-                .iterations
-                .unwrap_or_else(|| Settings::iterations_for(args.dt)),
-            inner_iterations: args
-                .inner_iterations
-                .unwrap_or_else(|| Settings::inner_iterations_for(args.dt)),
-            engine,
+            engine: args.engine,
+            rapier: RapierSettings {
+                solver_iterations: args.iterations.unwrap_or(step.solver_iterations),
+                inner_iterations: args.inner_iterations.unwrap_or(step.inner_iterations),
+                ..step
+            },
             ..Settings::for_step(args.dt)
         },
         seconds: args.seconds,
         candidates: args.candidates,
-    };
+    })
+}
+
+/// Runs the command; exit code 0, or 1 when the run diverged.
+pub fn run(args: &SimulateArgs) -> Result<i32, CliError> {
+    let mut outputs = Outputs::reading(std::iter::once(&args.hand).chain(&args.object));
+    for path in [Some(&args.out), args.glb.as_ref(), args.bvh.as_ref()]
+        .into_iter()
+        .flatten()
+    {
+        outputs.claim(path)?;
+    }
+    let options = options(args)?;
     let bar = ProgressBar::new(1000);
     bar.set_style(
         ProgressStyle::with_template("{msg:28} [{bar:30}] {percent:>3}%")
@@ -73,10 +73,17 @@ pub fn run(args: &SimulateArgs) -> Result<i32, CliError> {
         bar.set_message(label.to_string());
         bar.set_position((fraction * 1000.0) as u64);
     };
-    let (report, recording) = scenarios::run(scenario, &options, &mut progress)?;
+    let (report, recording) = scenarios::run(args.scenario, &options, &mut progress)?;
     bar.finish_and_clear();
-    let json = serde_json::to_string_pretty(&report)?;
-    write(&args.out, json.as_bytes())?;
+    outputs.write(&args.out, serde_json::to_string_pretty(&report)?.as_bytes())?;
+    print_cases(&report)?;
+    out!("wrote {}", args.out.display());
+    write_animations(args, &outputs, &options, &recording)?;
+    Ok(if report.finite { 0 } else { 1 })
+}
+
+/// A line per case with its outcome, and its metrics.
+fn print_cases(report: &RunReport) -> Result<(), CliError> {
     for case in &report.cases {
         let held = case.held.map_or(String::new(), |h| format!(", held {h}"));
         let slip = case
@@ -99,7 +106,17 @@ pub fn run(args: &SimulateArgs) -> Result<i32, CliError> {
             out!("    stopped: {d}");
         }
     }
-    out!("wrote {}", args.out.display());
+    Ok(())
+}
+
+/// The first case as an animated glTF scene (every hand and the object) and its first hand as
+/// BVH, when asked for.
+fn write_animations(
+    args: &SimulateArgs,
+    outputs: &Outputs,
+    options: &Options,
+    recording: &Recording,
+) -> Result<(), CliError> {
     if let Some(path) = &args.glb {
         let object = recording
             .object
@@ -110,16 +127,16 @@ pub fn run(args: &SimulateArgs) -> Result<i32, CliError> {
             .iter()
             .map(|(hand, frames)| (hand, &frames[..]))
             .collect();
-        write(path, &prehensile_formats::simulation_glb(object, &hands))?;
+        outputs.write(path, &prehensile_formats::simulation_glb(object, &hands))?;
         out!("wrote {}", path.display());
     }
     if let (Some(path), Some((hand, frames))) = (&args.bvh, recording.hands.first()) {
         let fps = options.settings.record_fps;
-        write(
+        outputs.write(
             path,
             prehensile_formats::write_bvh(hand, frames, fps).as_bytes(),
         )?;
         out!("wrote {}", path.display());
     }
-    Ok(if report.finite { 0 } else { 1 })
+    Ok(())
 }

@@ -185,7 +185,7 @@ fn a_grasp_is_the_same_on_any_number_of_threads_and_on_a_grid_filled_first() {
     );
     let out = prehensile(&["grasp", "--threads", "0"]);
     assert_eq!(out.status.code(), Some(2));
-    assert!(text(&out.stderr).contains("--threads 0"));
+    assert!(text(&out.stderr).contains("threads = 0 is outside its range"));
 }
 
 #[test]
@@ -643,14 +643,23 @@ fn simulate_writes_a_finite_report_and_an_animation() {
 #[test]
 fn simulate_refuses_bad_settings_with_the_reason() {
     for (option, value, reason) in [
-        ("--iterations", "0", "solver iterations"),
-        ("--inner-iterations", "0", "inner solver iterations"),
-        ("--dt", "0.5", "too large"),
-        ("--alpha", "NaN", "grip strength"),
+        (
+            "--iterations",
+            "0",
+            "rapier.solver_iterations = 0 is outside",
+        ),
+        (
+            "--inner-iterations",
+            "0",
+            "rapier.inner_iterations = 0 is outside",
+        ),
+        ("--dt", "0.5", "dt = 0.5 is outside its range"),
+        ("--alpha", "NaN", "alpha = NaN is outside"),
+        ("--candidates", "0", "candidates = 0 is outside"),
         (
             "--engine",
             "bullet",
-            "unknown engine 'bullet'; choose one of rapier, reduced",
+            "unknown engine 'bullet'; use one of: rapier, reduced",
         ),
     ] {
         let json = scratch("refused.json");

@@ -1,4 +1,4 @@
-//! Inputs that used to panic, hang or read outside their folder (issue 14): each now ends with
+//! Inputs that once made a command panic, hang or read outside their folder: each ends with
 //! exit code 2 and a message, within a few seconds. Named after what broke.
 
 use std::path::{Path, PathBuf};
@@ -156,8 +156,15 @@ fn absurd_numbers_are_refused_with_the_reason() {
     refused(&["grasp", "--shoulder=1e200,0,0"], "shoulder");
     refused(
         &["simulate", "--scenario", "drop", "--dt", "1e-9"],
-        "too small",
+        "dt = 0.000000001 is outside its range [0.00001, 0.01]",
     );
+    refused(&["grasp", "--weights", "0,0,0,0"], "all are zero");
+    refused(&["grasp", "--weights", "1,1"], "four (G, F, T, W) or five");
+    refused(&["grasp", "--friction", "nan"], "friction = NaN is outside");
+    refused(&["grasp", "--hook=nan,0,0"], "hook");
+    refused(&["grasp", "--up", "w"], "unknown up axis 'w'");
+    refused(&["batch", "--seeds", "0"], "the batch has no seeds");
+    refused(&["batch", "--seeds", "2000000"], "seeds: give 1 to 1000000");
     refused(&["grasp", "--hand", "hand.stl"], "hand");
 }
 
@@ -345,4 +352,49 @@ fn a_hand_of_a_thousand_fingers_is_searched_in_seconds() {
     let (code, err) = run(&["grasp", "--hand", s(&path)], Stdio::null());
     assert!(matches!(code, Some(0 | 1)), "{err}");
     assert!(err.contains("many on sphere"), "{err}");
+}
+
+#[test]
+fn no_command_writes_over_its_input() {
+    let mesh = scratch("part.obj");
+    let original = std::fs::read("../../crates/prehensile-core/tests/data/box.obj").unwrap();
+    std::fs::write(&mesh, &original).unwrap();
+    refused(
+        &["grasp", "--object", s(&mesh), "--out", s(&mesh)],
+        "is an input of this command",
+    );
+    // The same file by another path, and as the picture.
+    let other = format!("{}/./part.obj", mesh.parent().unwrap().display());
+    refused(
+        &["grasp", "--object", s(&mesh), "--svg", &other],
+        "is an input of this command",
+    );
+    let hand = "../../assets/hands/robot3.toml";
+    refused(
+        &[
+            "simulate",
+            "--scenario",
+            "drop",
+            "--hand",
+            hand,
+            "--out",
+            hand,
+        ],
+        "is an input of this command",
+    );
+    refused(
+        &[
+            "grasp",
+            "--out",
+            s(&scratch("twice.json")),
+            "--svg",
+            s(&scratch("twice.json")),
+        ],
+        "two different outputs",
+    );
+    assert_eq!(
+        std::fs::read(&mesh).unwrap(),
+        original,
+        "the input was changed"
+    );
 }

@@ -71,7 +71,7 @@ fn positions(hand: &HandModel, rotations: &[Rotation]) -> Vec<f64> {
 }
 
 fn state(hand: &HandModel, seed: u64, spread: f64) -> Vec<f64> {
-    let mut rng = prehensile_core::search::random::SplitMix64::new(seed);
+    let mut rng = prehensile_core::random::SplitMix64::new(seed);
     (0..hand.dof_count())
         .map(|_| rng.uniform(-spread, spread))
         .collect()

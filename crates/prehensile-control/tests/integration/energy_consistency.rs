@@ -14,7 +14,7 @@ fn poses(hand: &HandModel, q: &[f64]) -> Vec<Transform> {
 }
 
 fn state(hand: &HandModel, seed: u64) -> (Vec<f64>, Vec<f64>) {
-    let mut rng = prehensile_core::search::random::SplitMix64::new(seed);
+    let mut rng = prehensile_core::random::SplitMix64::new(seed);
     let q = (0..hand.dof_count())
         .map(|_| rng.uniform(-0.8, 0.8))
         .collect();

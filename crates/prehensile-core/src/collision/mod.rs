@@ -90,7 +90,7 @@ impl MeshCollider {
     /// but they move where TranslateToFree's leaps (at least 4 mm) land, and there the leaps
     /// passed thin free gaps that plain 4 mm steps stop in: on a box overlapped by a sphere,
     /// 4 of 10 Shadow hand grasps held in ≥ 5 directions with them, 10 of 10 without
-    /// (docs/PERFORMANCE.md, session 43).
+    /// (docs/PERFORMANCE.md).
     pub fn from_exact(exact: TriangleBvh, margin: f64) -> Self {
         Self {
             fast: exact

@@ -13,7 +13,7 @@ use crate::math::{Point3, Vec3};
 /// `prehensile grasp` runs on a 15k-triangle can (one thread, instructions counted by
 /// cachegrind, seeds 1–2) took 1% more instructions than without slabs with slabs up to 16
 /// triangles, and 2.3%, 2.9% and 2.8% fewer up to 64, 128 and 256 (a first, dearer build of
-/// the slabs; the one here saves 3.8% at 128; docs/PERFORMANCE.md, session 44).
+/// the slabs; the one here saves 3.8% at 128; docs/PERFORMANCE.md).
 pub(super) const SLAB_MOST_TRIANGLES: usize = 128;
 
 /// The region `lo ≤ axis·x ≤ hi` (unit `axis`), holding every point of a node's triangles.

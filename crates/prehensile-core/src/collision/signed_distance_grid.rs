@@ -33,7 +33,7 @@ const MAX_NODES_PER_AXIS: usize = 64;
 /// alone but costs a nearest-triangle query for every node it fills, and the exact path it
 /// leaves undecided is now cheap (it tests only the stretch the grid could not clear). Side by
 /// side over ten hand-sized objects, human and Shadow hands, power, seeds 1–3
-/// (docs/PERFORMANCE.md, session 41): at 8 mm the search took 0.46× (human) and 0.75× (Shadow)
+/// (docs/PERFORMANCE.md): at 8 mm the search took 0.46× (human) and 0.75× (Shadow)
 /// of the time it took with 64 nodes a side (2.2 mm on a can); about as fast up to 12 mm,
 /// slower again at 16 mm on a 16k-triangle scan, whose exact queries cost more. On a grid
 /// already filled the finer one is faster (about 1.1× for the human hand).

@@ -1044,7 +1044,7 @@ mod tests {
         // Past the heuristic's limit (88 levels without it), within the traversals' stacks.
         let levels = depth(&bvh, 0);
         assert!(levels > MAX_SAH_DEPTH && levels < STACK, "{levels} levels");
-        let mut rng = crate::search::random::SplitMix64::new(5);
+        let mut rng = crate::random::SplitMix64::new(5);
         let mut point = || {
             Point3::new(
                 rng.uniform(-0.08, 0.35),
@@ -1122,7 +1122,7 @@ mod tests {
     fn capsules_near_a_fine_mesh_agree_with_every_triangle() {
         let mesh = crate::shapes::torus(0.045, 0.014, 128, 64);
         let bvh = TriangleBvh::new(&mesh);
-        let mut rng = crate::search::random::SplitMix64::new(17);
+        let mut rng = crate::random::SplitMix64::new(17);
         let mut unit = || {
             Vec3::new(
                 rng.uniform(-1.0, 1.0),

@@ -163,7 +163,7 @@ mod tests {
     /// plane.
     #[test]
     fn the_within_test_agrees_with_the_distance() {
-        let mut rng = crate::search::random::SplitMix64::new(11);
+        let mut rng = crate::random::SplitMix64::new(11);
         let mut point = |flat: bool| {
             Point3::new(
                 rng.uniform(-1.0, 1.0),
@@ -202,7 +202,7 @@ mod tests {
     /// at heights around the radius.
     #[test]
     fn the_within_test_agrees_along_edges_and_corners() {
-        let mut rng = crate::search::random::SplitMix64::new(5);
+        let mut rng = crate::random::SplitMix64::new(5);
         let mut point = || {
             Point3::new(
                 rng.uniform(-1.0, 1.0),
@@ -269,7 +269,7 @@ mod tests {
 
     #[test]
     fn the_fraction_returned_is_where_the_segment_is_that_near() {
-        let mut rng = crate::search::random::SplitMix64::new(3);
+        let mut rng = crate::random::SplitMix64::new(3);
         let mut point = || {
             Point3::new(
                 rng.uniform(-1.0, 1.0),

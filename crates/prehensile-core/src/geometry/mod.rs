@@ -7,11 +7,15 @@
 //! `tests/integration/collision_oracle.rs`).
 
 mod closest_point_triangle;
+pub mod convex_hull;
 mod distance_segment_segment;
 mod distance_segment_triangle;
+pub mod slerp_path;
 
 pub use closest_point_triangle::{closest_point_on_triangle, TriangleFeature};
+pub use convex_hull::{ConvexHull, HullError, HullFacet};
 pub use distance_segment_segment::{closest_segment_segment, distance_squared_segment_segment};
 pub use distance_segment_triangle::{
     closest_segment_triangle, distance_squared_segment_triangle, segment_within_triangle,
 };
+pub use slerp_path::SlerpPath;

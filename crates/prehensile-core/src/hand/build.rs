@@ -5,10 +5,10 @@ use std::collections::HashMap;
 
 use super::description::{HandDescription, JointDescription};
 use super::model::{Axis, Bone, BoneCapsule, Coupling, Finger, HandModel, Joint};
-use crate::kinematics::forward_kinematics;
+use crate::hand::kinematics::forward_kinematics;
+use crate::hand::movement::GraspMovement;
 use crate::math::is_finite_vec;
 use crate::math::{Point3, Rotation, Transform, Vec3};
-use crate::movement::GraspMovement;
 
 /// Shortest bone accepted, metres.
 const MIN_BONE_LENGTH: f64 = 1e-5;
@@ -497,9 +497,9 @@ impl HandModel {
             .collect::<Result<_, _>>()?;
         check_couplings(&model)?;
         // Facts of the finished hand that every search evaluation asks for.
-        model.fingers_close_apart = crate::finger_closing::fingers_close_apart(&model);
+        model.fingers_close_apart = super::closing_facts::fingers_close_apart(&model);
         model.finger_floor_radii = (0..model.fingers.len())
-            .map(|f| crate::search::finger_floor_radius(&model, f))
+            .map(|f| super::closing_facts::finger_floor_radius(&model, f))
             .collect();
         Ok(model)
     }

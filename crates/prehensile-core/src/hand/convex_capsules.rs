@@ -11,10 +11,10 @@
 //! the hull reaches past the capsules is measured and reported ([`ConvexCapsules`]).
 //!
 //! Written here because no crate turns a convex polytope into inscribed capsules; the hull
-//! itself is [`crate::stability::ConvexHull`] (checked against Qhull).
+//! itself is [`crate::geometry::ConvexHull`] (checked against Qhull).
 
+use crate::geometry::{ConvexHull, HullError};
 use crate::math::{Point3, Vec3};
-use crate::stability::{ConvexHull, HullError};
 
 /// Most lines across the hull; a finer grid than this widens its spacing instead.
 const MAX_LINES: usize = 64;
@@ -482,7 +482,7 @@ mod tests {
 
     #[test]
     fn every_capsule_of_a_random_convex_shape_lies_inside_its_hull() {
-        let mut rng = crate::search::random::SplitMix64::new(7);
+        let mut rng = crate::random::SplitMix64::new(7);
         for case in 0..30 {
             let stretch = Vec3::new(
                 rng.uniform(0.005, 0.04),

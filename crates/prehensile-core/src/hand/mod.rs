@@ -4,12 +4,18 @@
 
 mod build;
 pub mod capsule_inertia;
+pub mod closing_facts;
 pub mod convex_capsules;
 mod description;
+pub mod kinematics;
 mod model;
+pub mod movement;
+mod movement_building;
+pub mod movement_derivation;
 
 pub use build::{BonePart, HandError, HandParts};
 pub use description::{
     BoneDescription, CouplingDescription, HandDescription, JointDescription, MovementDescription,
 };
 pub use model::{Axis, Bone, BoneCapsule, Coupling, Finger, HandModel, Inertial, Joint};
+pub use movement::{GraspMovement, Via};

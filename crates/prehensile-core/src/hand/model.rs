@@ -1,7 +1,7 @@
 //! The validated, immutable hand model.
 
+use crate::hand::movement::GraspMovement;
 use crate::math::{Point3, Rotation, Transform, Vec3};
-use crate::movement::GraspMovement;
 
 /// A rotation axis fixed in a bone's frame, with the limits of its angle in radians.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -189,9 +189,9 @@ pub struct HandModel {
     pub(crate) chain_predecessor: Vec<Option<usize>>,
     pub(crate) capsule_ranges: Vec<std::ops::Range<usize>>,
     pub(crate) dof_names: Vec<String>,
-    /// [`crate::finger_closing::fingers_close_apart`], worked out once when the hand is built.
+    /// [`super::closing_facts::fingers_close_apart`], worked out once when the hand is built.
     pub(crate) fingers_close_apart: bool,
-    /// Per finger, [`crate::search::finger_floor_radius`], worked out once when the hand is
+    /// Per finger, [`super::closing_facts::finger_floor_radius`], worked out once when the hand is
     /// built.
     pub(crate) finger_floor_radii: Vec<Option<f64>>,
     /// The bone of each degree of freedom, worked out once when the hand is built.
@@ -309,13 +309,13 @@ impl HandModel {
     }
 
     /// Can the fingers close one after another with the same outcome as together
-    /// ([`crate::finger_closing::fingers_close_apart`], kept from when the hand was built)?
+    /// ([`super::closing_facts::fingers_close_apart`], kept from when the hand was built)?
     pub fn fingers_close_apart(&self) -> bool {
         self.fingers_close_apart
     }
 
     /// The radius finger `finger` adds to a hook's depth in its fDist floor, `None` for a finger
-    /// that adds no floor ([`crate::search::finger_floor_radius`], kept from when the hand was
+    /// that adds no floor ([`super::closing_facts::finger_floor_radius`], kept from when the hand was
     /// built).
     pub fn finger_floor_radius(&self, finger: usize) -> Option<f64> {
         self.finger_floor_radii[finger]

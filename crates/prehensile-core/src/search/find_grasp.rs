@@ -7,9 +7,9 @@ use std::time::Duration;
 // `std::time::Instant` panics in the browser (wasm32); web-time is the same API on every target.
 use web_time::Instant;
 
+use crate::hand::movement::GraspMovement;
 use crate::hand::HandModel;
 use crate::math::Point3;
-use crate::movement::GraspMovement;
 use crate::object::ObjectModel;
 use crate::workspace::Workspace;
 
@@ -18,14 +18,12 @@ use std::sync::{Condvar, Mutex, MutexGuard, PoisonError};
 
 use rayon::prelude::*;
 
+use super::defaults::AUTO_MOVEMENT;
 use super::planner::would_overrun;
 use super::{
     Evaluation, GraspPlanner, GraspResult, PlannerStatus, SearchError, SearchParams, SearchSink,
     SearchStats,
 };
-
-/// The movement name that tries the hand's movements and keeps the best result.
-pub const AUTO_MOVEMENT: &str = "auto";
 
 /// What to search for.
 #[derive(Debug, Clone)]
@@ -63,20 +61,32 @@ pub fn movements_to_try<'h>(
         return hand
             .movement("close")
             .map(|m| vec![m])
-            .ok_or_else(|| SearchError::UnknownMovement(describe(hand, "close")));
+            .ok_or_else(|| unknown_movement(hand, "close"));
     }
     hand.movement(movement)
         .map(|m| vec![m])
-        .ok_or_else(|| SearchError::UnknownMovement(describe(hand, movement)))
+        .ok_or_else(|| unknown_movement(hand, movement))
 }
 
-fn describe(hand: &HandModel, movement: &str) -> String {
-    let names: Vec<&str> = hand.movements().iter().map(|m| m.name()).collect();
-    format!(
-        "hand '{}' has no movement '{movement}'; it has {}, or use {AUTO_MOVEMENT}",
-        hand.name(),
-        names.join(", ")
-    )
+/// The movement a single-movement search (a planner, a simulated grasp) uses when none is
+/// named: the hand's `power`, else its first movement.
+pub fn default_movement(hand: &HandModel) -> Result<&GraspMovement, SearchError> {
+    hand.movement("power")
+        .or_else(|| hand.movements().first())
+        .ok_or_else(|| unknown_movement(hand, "power"))
+}
+
+fn unknown_movement(hand: &HandModel, movement: &str) -> SearchError {
+    SearchError::UnknownMovement {
+        hand: hand.name().to_string(),
+        movement: movement.to_string(),
+        known: hand
+            .movements()
+            .iter()
+            .map(|m| m.name().to_string())
+            .collect(),
+        auto_allowed: true,
+    }
 }
 
 /// Whether result `a` beats `b`: valid first, then the larger Ferrari–Canny ε (the grasp that

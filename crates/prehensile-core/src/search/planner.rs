@@ -9,12 +9,14 @@ use std::time::Duration;
 // `std::time::Instant` panics in the browser (wasm32); web-time is the same API on every target.
 use web_time::Instant;
 
+use super::defaults::{MAX_THREADS, ONE_SIDED_PATIENCE};
 use crate::collision::Capsule;
 use crate::finger_closing::ClosingParams;
+use crate::hand::movement::GraspMovement;
 use crate::hand::HandModel;
 use crate::math::{Point3, Rotation, Vec3};
-use crate::movement::GraspMovement;
 use crate::object::ObjectModel;
+use crate::parameter::{finite_point, in_range, ParameterError};
 use crate::workspace::Workspace;
 
 use super::initial_approximation::InitialApproximation;
@@ -23,10 +25,10 @@ use super::optimization_step::{step_candidates, StepKind};
 use super::quality::{
     hook_depth, Evaluation, EvaluationContext, Invalid, QualityWeights, ValidityRule,
 };
-use super::random::SplitMix64;
 use super::start_position::{nearest_hook, start_rotation};
 use super::translate_to_free::TranslateMode;
 use super::wrist_range::WristRange;
+use crate::random::SplitMix64;
 use crate::stability::ContactModel;
 
 /// When the planner considers itself converged.
@@ -92,7 +94,7 @@ pub struct SearchParams {
     /// Steps a search goes on with a valid best grasp that pushes from one side only, looking
     /// for one that pushes from every side, before its stop rule may end it (under
     /// [`ValidityRule::Holds`]; see [`EvaluationContext::pushes_from_every_side`]). 0 stops as
-    /// soon as the stop rule says, as before session 27: faster on objects where no such grasp
+    /// soon as the stop rule says: faster on objects where no such grasp
     /// is found (the Shadow hand's torus: 84 ms at 120, docs/QUALITY.md).
     #[serde(default = "one_sided_patience")]
     pub one_sided_patience: u32,
@@ -174,11 +176,20 @@ pub enum SearchError {
         finger: f64,
     },
     /// A parameter is NaN, negative or otherwise unusable.
-    #[error("invalid parameter: {0}")]
-    BadParameter(String),
-    /// The hand has no movement of the requested name (the message lists what it has).
-    #[error("{0}")]
-    UnknownMovement(String),
+    #[error(transparent)]
+    BadParameter(#[from] ParameterError),
+    /// The hand has no movement of the requested name.
+    #[error("hand '{hand}' has no movement '{movement}'; it has {}{}", known.join(", "), if *auto_allowed { ", or use auto" } else { " (a planner runs one movement)" })]
+    UnknownMovement {
+        /// The hand.
+        hand: String,
+        /// The movement asked for.
+        movement: String,
+        /// The hand's movements.
+        known: Vec<String>,
+        /// Whether `auto` would have been taken (by a whole request, not by one planner).
+        auto_allowed: bool,
+    },
 }
 
 /// Whether the planner has more to do.
@@ -283,7 +294,7 @@ enum Restart {
 }
 
 /// Initial-approximation samples per slice: each is one TranslateToFree, less than one candidate
-/// of a step costs. One a slice (six until session 10) keeps a 4 ms frame in wasm on the mug
+/// of a step costs. One a slice (rather than six) keeps a 4 ms frame in wasm on the mug
 /// (frames at most 4.8 ms where six a slice took 13 ms each; `docs/PERFORMANCE.md`).
 pub const SAMPLES_PER_SLICE: usize = 1;
 
@@ -292,7 +303,7 @@ pub const SAMPLES_PER_SLICE: usize = 1;
 /// Shadow hand's power grasps of the 4.5 cm lemon: hung at its derived grasp center, 4.8 cm out
 /// of the palm, it caged the lemon between its fingertips (one-sided, or nothing valid, on every
 /// seed); hung 2.4 to 2.8 cm out, it closed on it from every side with the thumb on it, hung 3.3
-/// cm or more, nothing valid (docs/QUALITY.md, session 29). Hung that near from the first, the
+/// cm or more, nothing valid (docs/QUALITY.md). Hung that near from the first, the
 /// hand gripped the torus by its tube where MuJoCo let it turn under gravity: the nearer hang is
 /// a second try, not the first.
 pub const SECOND_HANG_NEARER: f64 = 0.45;
@@ -302,7 +313,7 @@ pub const SECOND_HANG_NEARER: f64 = 0.45;
 /// hook (hung nearer, it would back off to where it was). The human hand's power grasps of the
 /// 3 cm thick cereal box from a shoulder turned 60°: the box's top edge against the palm, the
 /// fingers over it, every contact pushing one way (seeds 1–6); hung twice as far out, the edge
-/// sits in the fingers and they close round it from every side (docs/QUALITY.md, session 29).
+/// sits in the fingers and they close round it from every side (docs/QUALITY.md).
 pub const SECOND_HANG_FARTHER: f64 = 1.0;
 
 /// How many times a search may begin again for want of a grasp that pushes from every side
@@ -310,18 +321,9 @@ pub const SECOND_HANG_FARTHER: f64 = 1.0;
 /// hand's power grasp of the cereal box from a shoulder turned 60°, seed 3, found only a
 /// one-sided grasp from its second hang, farther out (and, tried, from the nearer one); searched
 /// again from the farther one it found one that pushes from every side, as seeds 1, 2 and 4–6
-/// had (docs/QUALITY.md, session 30). Where no such grasp exists (a claw under a ball's
+/// had (docs/QUALITY.md). Where no such grasp exists (a claw under a ball's
 /// equator) the search takes half as long again before it returns its one-sided best.
 const MOST_RETRIES: u32 = 2;
-
-/// The default [`SearchParams::one_sided_patience`]: steps a search goes on with a valid best
-/// grasp that pushes from one side only, looking for one that pushes from every side.
-/// Measured on power grasps of ten objects, seeds 1–4 (docs/QUALITY.md, session 27): the Shadow
-/// hand returns 15 one-sided grasps of 38 after 15 steps, 9 after 60,
-/// 6 after 120, 5 with no limit (its sphere grasps of seeds 3 and 4 push from every side after
-/// 107 and 116 steps), its torus search taking 10 ms before the ranking, 45 ms after 60 steps,
-/// 81 ms after 120 and 285 ms with no limit (medians); the human hand returns none after 30.
-pub const ONE_SIDED_PATIENCE: u32 = 120;
 
 impl<'a> GraspPlanner<'a> {
     /// Sets up the search: nearest hook, starting position (or the initial approximation), and
@@ -469,8 +471,7 @@ impl<'a> GraspPlanner<'a> {
 
     fn consider_best(&mut self, e: &Evaluation) {
         // A search begun again looks for a grasp that pushes from every side: a one-sided one
-        // it finds does not displace one found before it began again (docs/QUALITY.md,
-        // session 30), but may displace another it found itself.
+        // it finds does not displace one found before it began again (docs/QUALITY.md), but may displace another it found itself.
         let may_replace = |b: &Evaluation| {
             self.ctx.rank(e) > self.ctx.rank(b)
                 && (self.best_found_at.is_none() || self.ctx.pushes_from_every_side(e))
@@ -991,35 +992,28 @@ fn placeholder(rotation: Rotation) -> Evaluation {
     }
 }
 
-fn check_params(p: &SearchParams, shoulder: &Point3) -> Result<(), SearchError> {
-    let bad = |what: &str| Err(SearchError::BadParameter(what.to_string()));
-    if !shoulder.iter().all(|c| c.is_finite()) {
-        return bad("the shoulder position is not finite");
-    }
-    if shoulder
-        .iter()
-        .any(|c| c.abs() > crate::mesh::MAX_COORDINATE)
-    {
-        return bad(
-            "the shoulder lies more than 1000 km from the origin; check its units (metres)",
-        );
-    }
-    if !(p.max_angle.is_finite() && p.max_angle > 0.0) {
-        return bad("the largest step angle must be a positive number of radians");
-    }
-    if !(p.restart_angle.is_finite() && p.restart_angle >= 0.0) {
-        return bad("the restart angle must be a non-negative number");
-    }
+fn check_params(p: &SearchParams, shoulder: &Point3) -> Result<(), ParameterError> {
+    finite_point("shoulder", [shoulder.x, shoulder.y, shoulder.z])?;
+    in_range(
+        "max_angle",
+        p.max_angle,
+        1e-9,
+        2.0 * std::f64::consts::PI,
+        "radians",
+    )?;
+    in_range("restart_angle", p.restart_angle, 0.0, 1e3, "radians")?;
     if !p.up.iter().all(|c| c.is_finite()) || p.up.norm() < 1e-9 {
-        return bad("the up direction must be a finite, non-zero vector");
+        return Err(ParameterError::Up);
     }
-    if p.closing.interpolations == 0 || p.closing.interpolations > 10_000 {
-        return bad("interpolations must be between 1 and 10000");
-    }
+    in_range(
+        "interpolations",
+        p.closing.interpolations as f64,
+        1.0,
+        10_000.0,
+        "",
+    )?;
     if let Some(t) = p.closing.contact_tolerance {
-        if !(t.is_finite() && t > 0.0) {
-            return bad("the contact tolerance must be a positive number of metres");
-        }
+        in_range("contact_tolerance", t, 1e-9, 1.0, "metres")?;
     }
     let steps_ok = match p.translate {
         TranslateMode::Steps { step } => step.is_finite() && step > 1e-6,
@@ -1033,19 +1027,14 @@ fn check_params(p: &SearchParams, shoulder: &Point3) -> Result<(), SearchError> 
         }
     };
     if !steps_ok {
-        return bad("TranslateToFree steps must be positive (at least 1 µm) and the precision no larger than the coarse step");
+        return Err(ParameterError::TranslateSteps);
     }
     if let Some(w) = p.weights {
-        if !w.is_valid() {
-            return bad("quality weights must be finite and not negative");
-        }
+        w.check()?;
     }
-    if let Err(why) = p.contact_model.check() {
-        return Err(SearchError::BadParameter(why));
-    }
-    if p.max_steps == 0 {
-        return bad("max_steps must be at least 1");
-    }
+    p.contact_model.check()?;
+    in_range("max_steps", f64::from(p.max_steps), 1.0, 1e6, "")?;
+    in_range("threads", p.threads as f64, 1.0, MAX_THREADS as f64, "")?;
     Ok(())
 }
 

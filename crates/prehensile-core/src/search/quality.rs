@@ -3,10 +3,11 @@
 
 use crate::collision::Capsule;
 use crate::finger_closing::{close_fingers_while, ClosingParams};
+use crate::hand::movement::GraspMovement;
 use crate::hand::{Finger, HandModel};
 use crate::math::{Point3, Rotation, Transform};
-use crate::movement::GraspMovement;
 use crate::object::ObjectModel;
+use crate::parameter::{ParameterError, WeightsProblem};
 use crate::stability::{
     find_contacts, narrowest_normal_cap, opposition_angle, pad_normal, ContactModel, Stability,
 };
@@ -70,17 +71,19 @@ pub enum ValidityRule {
     Thesis,
     /// [`ValidityRule::Holds`], and a grasp without contact fingers (a power grasp, `close`: a
     /// wrap) has its contact normals in no open half-space, however much friction could hold it:
-    /// issue 13's "0 grasps with all contact normals on one side". A pinch (a movement with
+    /// no grasp with all its contact normals on one side. A pinch (a movement with
     /// contact fingers) keeps the friction-aware test: two pads 150° apart share an open
     /// half-space, and their opposition is the pinch's own test of sides. It refuses grasps
     /// that hold, such as a three-fingered claw whose tips meet a ball 3–5° above its equator,
-    /// so it is not the default (docs/QUALITY.md, session 26).
+    /// so it is not the default (docs/QUALITY.md).
     Strict,
 }
 
 impl ValidityRule {
     /// Every rule, by [`ValidityRule::name`].
     pub const ALL: [ValidityRule; 3] = [Self::Holds, Self::Strict, Self::Thesis];
+    /// Every rule's name, in the order of [`ValidityRule::ALL`].
+    pub const NAMES: [&'static str; 3] = ["holds", "strict", "thesis"];
 
     /// Does the rule judge a pose's contacts (force closure, sides, opposition)?
     pub fn judges_contacts(self) -> bool {
@@ -116,14 +119,18 @@ impl std::fmt::Display for ValidityRule {
 }
 
 impl std::str::FromStr for ValidityRule {
-    type Err = String;
+    type Err = ParameterError;
 
     /// Parses [`ValidityRule::name`]; the error lists the names.
-    fn from_str(s: &str) -> Result<Self, String> {
+    fn from_str(s: &str) -> Result<Self, ParameterError> {
         Self::ALL
             .into_iter()
             .find(|r| r.name() == s)
-            .ok_or_else(|| format!("'{s}': use holds, strict or thesis"))
+            .ok_or_else(|| ParameterError::UnknownName {
+                what: "validity rule",
+                name: s.to_string(),
+                known: &Self::NAMES,
+            })
     }
 }
 
@@ -178,17 +185,50 @@ impl QualityWeights {
         }
     }
 
-    /// All weights finite and not negative.
-    pub fn is_valid(&self) -> bool {
-        [
+    /// The weights from four (G, F, T, W; S is [`STABILITY_WEIGHT`]) or five (G, F, T, W, S)
+    /// numbers, each finite and not negative, not all zero.
+    pub fn from_slice(weights: &[f64]) -> Result<Self, ParameterError> {
+        let problem = |problem| ParameterError::Weights {
+            weights: weights.to_vec(),
+            problem,
+        };
+        let w = match *weights {
+            [g, f, t, w] => [g, f, t, w, STABILITY_WEIGHT],
+            [g, f, t, w, s] => [g, f, t, w, s],
+            _ => return Err(problem(WeightsProblem::Count)),
+        };
+        let weights = Self {
+            gdist: w[0],
+            fdist: w[1],
+            tdist: w[2],
+            wdist: w[3],
+            stability: w[4],
+        };
+        weights.check().map(|()| weights)
+    }
+
+    /// All weights finite and not negative, and not all zero.
+    pub fn check(&self) -> Result<(), ParameterError> {
+        let w = [
             self.gdist,
             self.fdist,
             self.tdist,
             self.wdist,
             self.stability,
-        ]
-        .iter()
-        .all(|w| w.is_finite() && *w >= 0.0)
+        ];
+        let problem = |problem| {
+            Err(ParameterError::Weights {
+                weights: w.to_vec(),
+                problem,
+            })
+        };
+        if !w.iter().all(|w| w.is_finite() && *w >= 0.0) {
+            return problem(WeightsProblem::Negative);
+        }
+        if w.iter().all(|w| *w == 0.0) {
+            return problem(WeightsProblem::AllZero);
+        }
+        Ok(())
     }
 }
 
@@ -416,7 +456,7 @@ pub fn hook_depth(object: &ObjectModel, hook: &Point3) -> f64 {
 /// outside the object and at least the capsule's radius less [`CONTACT_TOLERANCE`] from the
 /// surface, so the way to it from a hook that deep inside the object crosses the surface and is at
 /// least their sum long. A finger that finger closing may leave unchecked
-/// ([`crate::finger_closing::closes_checked`]) adds nothing. Tested against the fDist of valid
+/// ([`crate::hand::closing_facts::closes_checked`]) adds nothing. Tested against the fDist of valid
 /// poses (`the_fdist_floor_bounds_every_valid_pose`).
 pub fn fdist_floor(hand: &HandModel, object: &ObjectModel, hook: &Point3) -> f64 {
     fdist_floor_at(hand, hook_depth(object, hook))
@@ -437,35 +477,6 @@ pub fn finger_fdist_floor(hand: &HandModel, finger: usize, depth: f64) -> f64 {
         Some(radius) if depth > 0.0 => (depth + radius - CONTACT_TOLERANCE).max(0.0),
         _ => 0.0,
     }
-}
-
-/// The radius finger `finger` adds to a hook's depth in [`finger_fdist_floor`]: its thinnest
-/// capsule's, or `None` when the finger adds nothing (its last bone has no capsules, or finger
-/// closing may leave it unchecked). Depends on the hand alone; [`HandModel::finger_floor_radius`]
-/// keeps it from when the hand was built.
-pub fn finger_floor_radius(hand: &HandModel, finger: usize) -> Option<f64> {
-    let finger = &hand.fingers()[finger];
-    let has_capsules = |b: usize| !hand.bone_capsules(b).is_empty();
-    let last = *finger.bones.last().expect("fingers have bones");
-    let unchecked_follower = hand
-        .couplings()
-        .iter()
-        .filter(|c| c.rigid)
-        .map(|c| hand.bone_of_dof(c.follower))
-        .any(|b| finger.bones.contains(&b) && !has_capsules(b));
-    if !has_capsules(last)
-        || unchecked_follower
-        || !crate::finger_closing::closes_checked(hand, finger)
-    {
-        return None;
-    }
-    let thinnest = finger
-        .bones
-        .iter()
-        .flat_map(|&b| hand.bone_capsules(b))
-        .map(|c| c.radius)
-        .fold(f64::INFINITY, f64::min);
-    Some(thinnest)
 }
 
 impl EvaluationContext<'_> {
@@ -521,7 +532,7 @@ impl EvaluationContext<'_> {
     /// since backing off by δ moves the wrist by δ, TranslateToFree gives up at the back-off
     /// where even that bound falls to `bar`. Finger closing, most of an evaluation, is skipped
     /// for every pose that could not have changed the search. Where the fingers close one after
-    /// another ([`crate::finger_closing::fingers_close_apart`]), each finger that has closed
+    /// another ([`crate::hand::closing_facts::fingers_close_apart`]), each finger that has closed
     /// swaps its floor ([`finger_fdist_floor`]) for its own fDist term (and a contact finger
     /// adds its tDist term), and the pose stops as soon as the bound falls below `bar`. Only when
     /// the stability term's weight is 0 and the others are not negative; else, as for `bar` =
@@ -646,8 +657,8 @@ impl EvaluationContext<'_> {
     /// all lie in one open half-space is valid — friction holds it on paper — but ranks below
     /// every valid wrap that pushes from every side, whatever their qualities, and the search
     /// walks past it as if it were invalid ([`EvaluationContext::walk_rank`]): it returns the
-    /// one-sided grasp only when it finds none that pushes from every side (docs/QUALITY.md,
-    /// sessions 27 and 29). Every other pose ranks by validity and quality alone.
+    /// one-sided grasp only when it finds none that pushes from every side
+    /// (docs/decisions/004-one-sided-patience.md). Every other pose ranks by validity and quality alone.
     pub fn pushes_from_every_side(&self, eval: &Evaluation) -> bool {
         self.validity != ValidityRule::Holds
             || !self.movement.contact_fingers().is_empty()
@@ -935,7 +946,7 @@ mod tests {
             assert_eq!(rule.to_string(), rule.name());
         }
         let e = "loose".parse::<ValidityRule>().unwrap_err();
-        assert!(e.contains("holds, strict or thesis"), "{e}");
+        assert!(e.to_string().contains("holds, strict, thesis"), "{e}");
         assert_eq!(ValidityRule::default(), ValidityRule::Holds);
 
         let deg = |rule: ValidityRule, mu: f64, pinch: bool| {

@@ -38,19 +38,17 @@ impl SharedPlanner {
         shoulder: Point3,
         params: SearchParams,
     ) -> Result<Self, SearchError> {
-        let names = || {
-            hand.movements()
-                .iter()
-                .map(|m| m.name())
-                .collect::<Vec<_>>()
-                .join(", ")
-        };
         if hand.movement(movement).is_none() {
-            return Err(SearchError::UnknownMovement(format!(
-                "hand '{}' has no movement '{movement}'; it has {} (a planner runs one movement)",
-                hand.name(),
-                names()
-            )));
+            return Err(SearchError::UnknownMovement {
+                hand: hand.name().to_string(),
+                movement: movement.to_string(),
+                known: hand
+                    .movements()
+                    .iter()
+                    .map(|m| m.name().to_string())
+                    .collect(),
+                auto_allowed: false,
+            });
         }
         let cell = Cell::try_new(Owner { hand, object }, |o| {
             let m = o.hand.movement(movement).expect("checked above");

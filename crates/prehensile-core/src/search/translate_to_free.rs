@@ -3,10 +3,10 @@
 //! object along the hook's y axis until no capsule touches the object.
 
 use crate::collision::Capsule;
+use crate::hand::kinematics::forward_kinematics;
+use crate::hand::movement::GraspMovement;
 use crate::hand::HandModel;
-use crate::kinematics::forward_kinematics;
 use crate::math::{Transform, Vec3};
-use crate::movement::GraspMovement;
 use crate::object::ObjectModel;
 use crate::workspace::Workspace;
 

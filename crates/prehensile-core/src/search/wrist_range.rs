@@ -88,7 +88,7 @@ mod tests {
         };
         let (range, mirrored) = (WristRange::default(), WristRange::default().mirrored());
         let start = Rotation::from_axis_angle(&Vec3::y_axis(), 0.4);
-        let mut rng = crate::search::random::SplitMix64::new(7);
+        let mut rng = crate::random::SplitMix64::new(7);
         let (mut inside, mut asymmetric) = (0, 0);
         for _ in 0..2000 {
             let axis = Vec3::new(

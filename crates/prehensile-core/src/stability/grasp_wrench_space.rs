@@ -16,10 +16,11 @@
 //! force that holds a load there, i.e. the load the grasp holds per newton of total grip.
 
 use crate::math::{Point3, Vec3};
+use crate::parameter::{in_range, ParameterError};
 
 use super::contacts::Contact;
-use super::convex_hull::ConvexHull;
 use super::force_closure::ForceClosure;
+use crate::geometry::ConvexHull;
 
 /// The six load directions of [`Stability::load_ratio`], in the object's frame.
 pub const LOAD_DIRECTIONS: [&str; 6] = ["+x", "-x", "+y", "-y", "+z", "-z"];
@@ -52,7 +53,7 @@ pub struct ContactModel {
 impl Default for ContactModel {
     fn default() -> Self {
         Self {
-            friction: 0.5,
+            friction: Self::DEFAULT_FRICTION,
             cone_edges: 8,
             torsion_patch: 0.5,
         }
@@ -60,27 +61,28 @@ impl Default for ContactModel {
 }
 
 impl ContactModel {
+    /// The friction coefficient the search assumes by default: about half a grippy world's, a
+    /// safety factor of two (docs/QUALITY.md).
+    pub const DEFAULT_FRICTION: f64 = 0.5;
+
     /// Why the model is unusable, if it is: μ must be a positive finite number no larger than 10,
     /// the cone needs 3 to 64 edges, and the patch a fraction in [0, 1].
-    pub fn check(&self) -> Result<(), String> {
-        if !(self.friction.is_finite() && self.friction > 0.0 && self.friction <= 10.0) {
-            return Err(format!(
-                "the friction coefficient must be a number above 0 and at most 10 (got {}); rubber on wood is about 0.5-1",
-                self.friction
-            ));
-        }
-        if !(3..=64).contains(&self.cone_edges) {
-            return Err(format!(
-                "a friction cone needs 3 to 64 edges (got {})",
-                self.cone_edges
-            ));
-        }
-        if !(self.torsion_patch.is_finite() && (0.0..=1.0).contains(&self.torsion_patch)) {
-            return Err(format!(
-                "the torsion patch must be a fraction of the capsule radius in [0, 1] (got {})",
-                self.torsion_patch
-            ));
-        }
+    pub fn check(&self) -> Result<(), ParameterError> {
+        in_range(
+            "friction",
+            self.friction,
+            1e-6,
+            10.0,
+            "rubber on wood is about 0.5-1",
+        )?;
+        in_range("cone_edges", self.cone_edges as f64, 3.0, 64.0, "")?;
+        in_range(
+            "torsion_patch",
+            self.torsion_patch,
+            0.0,
+            1.0,
+            "a fraction of the capsule radius",
+        )?;
         Ok(())
     }
 }

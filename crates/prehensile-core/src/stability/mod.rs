@@ -5,13 +5,11 @@
 //! as the missing piece); the measures are those of GraspIt! (Miller & Allen 2004).
 
 pub mod contacts;
-pub mod convex_hull;
 pub mod force_closure;
 pub mod grasp_wrench_space;
 pub mod normal_cap;
 
 pub use contacts::{find_contacts, Contact};
-pub use convex_hull::{ConvexHull, HullError, HullFacet};
 pub use force_closure::{force_closure_margin, ForceClosure};
 pub use grasp_wrench_space::{
     ContactModel, GraspWrenchSpace, Stability, FORCE_CLOSURE_EPSILON, LOAD_DIRECTIONS,

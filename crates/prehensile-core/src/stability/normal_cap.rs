@@ -19,7 +19,7 @@ use crate::math::Vec3;
 /// Normals that fit an open hemisphere by a cosine smaller than this (a cap within 6·10⁻⁸° of
 /// 90°) count as not fitting it. A box held on two opposite faces and a third at right angles
 /// has its normals exactly on a hemisphere's edge, and rounding must not decide on which side
-/// of it a grasp falls: it did, when the search began to rank such grasps (session 27), and
+/// of it a grasp falls: it did, when the search began to rank such grasps, and
 /// the WebAssembly build and the native one, whose results differ in the last bits, took
 /// different paths on the cartoon hand's box.
 const HEMISPHERE_SLACK: f64 = 1e-9;

@@ -2,9 +2,8 @@
 
 use crate::common;
 
-use prehensile_core::finger_closing::{
-    close_fingers, close_fingers_while, fingers_close_apart, ClosingParams,
-};
+use prehensile_core::finger_closing::{close_fingers, close_fingers_while, ClosingParams};
+use prehensile_core::hand::closing_facts::fingers_close_apart;
 use prehensile_core::math::Transform;
 use prehensile_core::{ObjectModel, Workspace};
 

@@ -3,6 +3,7 @@
 //! checked from the result's own capsules with the exact collision path.
 
 use crate::common;
+use prehensile_core::object::Repair;
 
 use std::time::Duration;
 
@@ -245,10 +246,10 @@ fn the_wide_precision_start_pinches_what_the_curled_one_cannot() {
             }
         }
     }
-    // Of 18 searches each: 18 valid with the wide start, 5 with the curled one (session 22);
+    // Of 18 searches each: 18 valid with the wide start, 5 with the curled one;
     // 12 with the curled one since its searches of the torus and the mug, finding no pinch
     // from the centre of mass in the hole or the cup, move their hook into the material and
-    // pinch the ring or the wall (session 29).
+    // pinch the ring or the wall.
     assert!(
         wide >= 16 && wide >= curled + 4,
         "wide {wide}, curled {curled}"
@@ -897,7 +898,7 @@ fn giving_up_early_keeps_the_start_of_the_full_sampling() {
 /// Judging a step's candidates' stability lazily (best quality first, until one holds) takes the
 /// search down the same path as judging every candidate: the same current and best pose after
 /// every step and the same counts, with fewer than half the stability tests (2.95× fewer in
-/// the searches that end with a grasp pushing from every side, session 27). On one thread and
+/// the searches that end with a grasp pushing from every side). On one thread and
 /// on two.
 #[test]
 fn lazy_stability_takes_the_same_path_with_fewer_tests() {
@@ -965,7 +966,7 @@ fn lazy_stability_takes_the_same_path_with_fewer_tests() {
     }
     // Judging every candidate, a search judges the valid ones that close below the bar of a
     // step too, unless the step's bound stops them while their fingers close: since it stops
-    // finger by finger (session 38), most are (these searches: 984 stability tests before,
+    // finger by finger, most are (these searches: 984 stability tests before,
     // 421 after, lazy judging 367 both times), so laziness saves less than it did.
     assert!(
         lazy_tests < eager_tests,
@@ -976,9 +977,9 @@ fn lazy_stability_takes_the_same_path_with_fewer_tests() {
 
 #[test]
 fn the_default_rule_prefers_wraps_that_push_from_every_side_and_strict_refuses_the_rest() {
-    // Until session 27 the default rule returned the human hand's torus grasp of seed 2 with
-    // every contact normal within 82.5° of one direction (friction 0.5 holds it on paper). It
-    // now ranks valid wraps that push from every side above one-sided ones, and finds one, as
+    // A rule that took the first valid wrap returned the human hand's torus grasp of seed 2 with
+    // every contact normal within 82.5° of one direction (friction 0.5 holds it on paper). The
+    // default rule ranks valid wraps that push from every side above one-sided ones, and finds one, as
     // `--validity strict` does. For the four-fingered cartoon hand's sphere (seed 1: the hand
     // over the ball, its fingertips down to the equator) it finds none, and returns the
     // one-sided grasp, saying so in `normal_cone_degrees`; `strict` refuses it, saying why and
@@ -1036,7 +1037,7 @@ fn the_default_rule_prefers_wraps_that_push_from_every_side_and_strict_refuses_t
     .unwrap();
     assert_eq!(auto.movement, "precision");
     assert!(auto.valid && auto.stability.epsilon < default_sphere.stability.epsilon);
-    // Without that patience it stops as before session 27, sooner, with a one-sided grasp.
+    // Without that patience it stops sooner, with a one-sided grasp.
     let params = SearchParams {
         one_sided_patience: 0,
         ..Default::default()
@@ -1073,8 +1074,8 @@ fn the_default_rule_prefers_wraps_that_push_from_every_side_and_strict_refuses_t
 fn a_ring_the_hand_cannot_pinch_from_its_hole_is_pinched_by_its_rim() {
     // The human hand's precision grasp (thumb curled across the palm at the start) of the
     // built-in torus (9 cm across, lying flat), seed 1: hung from the centre of mass, in the
-    // hole, no pose brings thumb and index pads onto the ring in opposition in 120 steps (until
-    // session 29 it ran to the 500-step limit and returned nothing valid). It then moves its
+    // hole, no pose brings thumb and index pads onto the ring in opposition in 120 steps (without a
+    // second hang it ran to the 500-step limit and returned nothing valid). It then moves its
     // hook into the tube on the shoulder's side and pinches the rim there.
     let (major, minor) = (0.045, 0.014);
     let hand = common::hand("human");
@@ -1111,7 +1112,7 @@ fn a_ring_the_hand_cannot_pinch_from_its_hole_is_pinched_by_its_rim() {
 fn a_small_object_the_first_hang_cages_is_grasped_hung_nearer_the_palm() {
     // The Shadow hand's power grasp of the 4.5 cm lemon scan, seed 1: hung from its derived
     // grasp center, 4.8 cm out of the palm, the lemon sits between the curling fingertips and
-    // no valid grasp is found in 120 steps (until session 29: none in 500). The search then
+    // no valid grasp is found in 120 steps (nor in 500, hung there alone). The search then
     // hangs the hand again, nearer its palm, and closes on the lemon from every side with the
     // thumb on it.
     let hand = prehensile_formats::load_hand_mjcf(&common::repo_path(
@@ -1192,9 +1193,9 @@ fn a_search_whose_second_hang_finds_only_one_sided_grasps_searches_once_more() {
 fn the_default_rule_walks_as_strict_does_and_keeps_one_sided_grasps_in_reserve() {
     // Under the default rule a one-sided wrap is valid but ranks, for where the search moves
     // next, among the invalid poses: the search takes `--validity strict`'s path and returns its
-    // grasp wherever that finds one; elsewhere the one-sided grasp it met on the way. (Until
-    // session 29 the search moved onto a one-sided wrap and circled it: the Shadow hand's can
-    // scan, seed 2, ended one-sided where `strict` wraps it at step 55.)
+    // grasp wherever that finds one; elsewhere the one-sided grasp it met on the way. (A search
+    // that moved onto a one-sided wrap circled it: the Shadow hand's can scan, seed 2, ended
+    // one-sided where `strict` wraps it at step 55.)
     let mut same = 0;
     for (hand, name, seed) in [
         ("human", "torus", 2),
@@ -1371,10 +1372,7 @@ fn a_vertex_no_triangle_uses_changes_no_grasp() {
     );
     assert!(clean.repairs().is_empty(), "{:?}", clean.repairs());
     assert!(
-        with_stray
-            .repairs()
-            .iter()
-            .any(|r| r.contains("dropped 1 vertex(es) that no triangle uses")),
+        with_stray.repairs().contains(&Repair::UnusedVertices(1)),
         "{:?}",
         with_stray.repairs()
     );

@@ -3,6 +3,7 @@
 //! `tests/data/winding/winding_oracle.json`).
 
 use crate::common;
+use prehensile_core::object::Repair;
 
 use prehensile_core::collision::{inside_volume_and_centroid, BoundaryFan, TriangleBvh};
 use prehensile_core::math::Point3;
@@ -109,7 +110,7 @@ fn objects_from_open_overlapping_and_self_intersecting_meshes_get_the_inside_vol
             object
                 .repairs()
                 .iter()
-                .any(|r| r.contains("winding number")),
+                .any(|r| matches!(r, Repair::WindingInside { .. })),
             !clean,
             "{name}: {:?}",
             object.repairs()
@@ -183,7 +184,7 @@ fn an_inside_out_closed_mesh_is_turned_the_right_way() {
         object.collider().grid().is_some(),
         "a clean mesh keeps the fast path"
     );
-    assert!(object.repairs().iter().any(|r| r.contains("inside out")));
+    assert!(object.repairs().contains(&Repair::InsideOut));
 }
 
 #[test]
@@ -196,10 +197,7 @@ fn a_closed_box_with_a_face_wound_the_wrong_way_is_reoriented_exactly() {
     );
     assert!(object.collider().grid().is_some());
     assert!(
-        object
-            .repairs()
-            .iter()
-            .any(|r| r.starts_with("turned 2 triangle(s)")),
+        object.repairs().contains(&Repair::Turned(2)),
         "{:?}",
         object.repairs()
     );

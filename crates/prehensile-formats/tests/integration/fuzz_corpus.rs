@@ -6,7 +6,7 @@
 
 use std::path::Path;
 
-use prehensile_formats::fuzz_entry::{run, TARGETS};
+use prehensile_testkit::fuzz_entry::{run, TARGETS};
 
 fn inputs(folder: &str, target: &str) -> Vec<std::path::PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -140,12 +140,12 @@ fn shadow_power(object: &ObjectModel, validity: ValidityRule, seed: u64) -> Gras
 
 #[test]
 fn the_shadow_hands_sphere_grasp_wraps_past_the_equator() {
-    // Its derived power thumb swings out of the palm and comes down the ball's near side: before
-    // session 26 it folded under the knuckles, met the 8 cm sphere at its equator, and every
+    // Its derived power thumb swings out of the palm and comes down the ball's near side. Aimed
+    // at the grasp center it folded under the knuckles, met the 8 cm sphere at its equator, and every
     // grasp had all its normals within 69–73° of one direction, refused by `strict` on every
     // seed. Now the normals share no open half-space, at the default friction, under `strict`
-    // and under the default rule, which prefers such grasps (until session 27 it returned one
-    // with the normals within 78–90° of one direction).
+    // and under the default rule, which prefers such grasps (a rule taking the first valid wrap
+    // returned one with the normals within 78–90° of one direction).
     let object = ObjectModel::new("sphere", builtin_object("sphere").unwrap(), None).unwrap();
     for validity in [ValidityRule::Strict, ValidityRule::Holds] {
         let result = shadow_power(&object, validity, 1);
@@ -155,7 +155,7 @@ fn the_shadow_hands_sphere_grasp_wraps_past_the_equator() {
 
 #[test]
 fn the_shadow_hands_power_thumb_comes_onto_an_object_narrower_than_the_hand() {
-    // Aimed only far out of the palm (session 26), the thumb passed beside the 4.5 cm lemon:
+    // Aimed only far out of the palm, the thumb passed beside the 4.5 cm lemon:
     // seeds 2 and 4 found grasps of the four fingers alone. It now swings out half-way through
     // the closing (the movement's via pose) and folds in toward the grasp center after.
     let hand = load_hand(&shadow("reach.xml")).unwrap();

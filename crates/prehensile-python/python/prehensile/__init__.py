@@ -15,33 +15,53 @@ The same library as the ``prehensile`` command-line tool (same defaults, same me
   :mod:`prehensile.ray_batch` shards one over a Ray cluster;
 - :func:`check` reports on a mesh file.
 
-Searches and simulations release the GIL. Errors raise :class:`PrehensileError`.
+Searches and simulations release the GIL. Every error is a :class:`PrehensileError`, raised as
+the subclass of its kind: :class:`ParameterError` (an argument's value or name),
+:class:`FileFormatError`, :class:`HandError`, :class:`MeshError`, :class:`SearchError`,
+:class:`SimulationError` and :class:`BatchError`. :func:`defaults` gives every function's
+defaults as the library holds them.
 """
 from ._prehensile import (
+    BatchError,
+    FileFormatError,
     GraspResultPy as GraspResult,
     Hand,
+    HandError,
+    MeshError,
     Object,
+    ParameterError,
     Planner,
     PrehensileError,
+    SearchError,
+    SimulationError,
     __version__,
     batch,
     builtins,
     check,
+    defaults,
     expand_objects,
     grasp,
     simulate,
 )
 
 __all__ = [
+    "BatchError",
+    "FileFormatError",
     "GraspResult",
     "Hand",
+    "HandError",
+    "MeshError",
     "Object",
+    "ParameterError",
     "Planner",
     "PrehensileError",
+    "SearchError",
+    "SimulationError",
     "__version__",
     "batch",
     "builtins",
     "check",
+    "defaults",
     "expand_objects",
     "grasp",
     "simulate",

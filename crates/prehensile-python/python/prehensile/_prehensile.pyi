@@ -7,7 +7,28 @@ import numpy.typing as npt
 __version__: str
 
 class PrehensileError(Exception):
-    """A bad input or a failed run; the message says what, where and how to fix it."""
+    """Every error Prehensile raises; the message says what, where and how to fix it."""
+
+class ParameterError(PrehensileError):
+    """An argument's value or name is not one the library takes."""
+
+class FileFormatError(PrehensileError):
+    """A file could not be read or understood."""
+
+class HandError(PrehensileError):
+    """A hand is not a valid hand."""
+
+class MeshError(PrehensileError):
+    """A mesh cannot become a graspable object."""
+
+class SearchError(PrehensileError):
+    """A grasp search cannot start."""
+
+class SimulationError(PrehensileError):
+    """A simulation cannot run, or stopped."""
+
+class BatchError(PrehensileError):
+    """A batch cannot run."""
 
 class Hand:
     """A hand: a built-in name (human, human-left, robot3, cartoon4) or a hand file."""
@@ -101,7 +122,8 @@ def grasp(hand: HandLike, object: ObjectLike, movement: str = "auto", *,
           shoulder: Optional[Sequence[float]] = None, hook: Optional[Sequence[float]] = None,
           up: str = "z", seed: int = 1, weights: Optional[Sequence[float]] = None,
           friction: float = 0.5, validity: str = "holds", budget_ms: Optional[float] = None,
-          hold: bool = False, one_sided_patience: int = 120) -> GraspResultPy: ...
+          hold: bool = False, one_sided_patience: int = 120,
+          threads: Optional[int] = None) -> GraspResultPy: ...
 
 class Planner:
     """The anytime planner of one movement."""
@@ -109,7 +131,8 @@ class Planner:
                  shoulder: Optional[Sequence[float]] = None,
                  hook: Optional[Sequence[float]] = None, up: str = "z", seed: int = 1,
                  weights: Optional[Sequence[float]] = None, friction: float = 0.5,
-                 validity: str = "holds", one_sided_patience: int = 120) -> None: ...
+                 validity: str = "holds", one_sided_patience: int = 120,
+                 threads: Optional[int] = None) -> None: ...
     def step(self) -> str: ...
     def run_for(self, ms: float) -> str: ...
     def run_to_end(self) -> str: ...
@@ -138,3 +161,5 @@ def batch(out: str, *, hands: Sequence[str] = ..., objects: Optional[Sequence[st
 def expand_objects(objects: Sequence[str]) -> list[str]: ...
 
 def builtins() -> dict[str, list[str]]: ...
+
+def defaults() -> dict[str, dict[str, Any]]: ...

@@ -8,9 +8,9 @@ use super::{
     case, recording, side_by_side, step_until, CaseReport, Options, PlannedGrasp, Recording,
     Scenario,
 };
-use crate::arm_trajectory::{ArmTrajectory, Waypoint};
+use crate::error::SimError;
 use crate::simulation::{DistanceTo, HandSetup, Simulation};
-use crate::SimError;
+use crate::world::arm_trajectory::{ArmTrajectory, Waypoint};
 
 /// Palm down: the hand's +y (palm normal) to world −z, fingers (+z) to world +y.
 pub(crate) fn palm_down() -> Transform {

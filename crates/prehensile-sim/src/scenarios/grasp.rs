@@ -12,8 +12,9 @@ use super::{
     case, grasp_arm, recording, side_by_side, step_until, CaseReport, GraspTimes, Options,
     PlannedGrasp, Recording, HOLD_MOVE, HOLD_TURN_DEGREES, LIFT,
 };
-use crate::simulation::{DistanceTo, HandSetup, Settings, Simulation};
-use crate::SimError;
+use crate::error::SimError;
+use crate::simulation::{DistanceTo, HandSetup, Simulation};
+use crate::world::settings::Settings;
 
 /// One grasp-lift-release run and its metrics.
 #[allow(clippy::too_many_arguments)]
@@ -128,10 +129,7 @@ pub(crate) fn example_controller(
     options: &Options,
     progress: &mut dyn FnMut(&str, f64),
 ) -> Result<Example, SimError> {
-    let first = options
-        .objects
-        .first()
-        .ok_or_else(|| SimError::Settings("give at least one object".into()))?;
+    let first = options.objects.first().ok_or(SimError::NoObjects)?;
     let movement = super::grasp_movement(&options.hand)?;
     let fitted = |grasp: &PlannedGrasp| {
         let mut controller = grasp.controller(&options.hand, &options.settings.gravity)?;
@@ -185,7 +183,7 @@ impl HoldCheck {
 /// grasp is found is skipped. `search` may return something to carry along.
 ///
 /// Why: neither the search's quality nor ε predicts which of several valid grasps the
-/// simulation holds (docs/QUALITY.md, session 17), and the controller that drives an object
+/// simulation holds (docs/QUALITY.md), and the controller that drives an object
 /// after the first was fitted to another object's grasp; the check asks the simulation itself.
 fn checked_grasp<T>(
     options: &Options,
@@ -205,7 +203,7 @@ fn checked_grasp<T>(
         }
         let (grasp, carried) = match search(super::shoulder_turn_degrees(candidate).to_radians()) {
             Ok(found) => found,
-            Err(e @ SimError::NoGrasp(_)) => {
+            Err(e @ SimError::NoGrasp { .. }) => {
                 no_grasp.get_or_insert(e);
                 continue;
             }
@@ -243,7 +241,12 @@ fn checked_grasp<T>(
         }
     }
     let (_, grasp, controller, carried, candidate) = nearest.ok_or_else(|| {
-        no_grasp.unwrap_or_else(|| SimError::NoGrasp(format!("no grasp of '{}'", object.name())))
+        no_grasp.unwrap_or_else(|| SimError::NoGrasp {
+            movement: String::new(),
+            object: object.name().to_string(),
+            hand: options.hand.name().to_string(),
+            why: None,
+        })
     })?;
     let check = HoldCheck {
         candidate,
@@ -292,7 +295,7 @@ pub(crate) fn run(
             (example.grasp.clone(), true, example.check)
         } else {
             let search = |turn| match options.plan_grasp_along(object, &closing, turn) {
-                Err(SimError::NoGrasp(_)) => Ok((
+                Err(SimError::NoGrasp { .. }) => Ok((
                     options.plan_grasp_along(
                         object,
                         super::grasp_movement(&options.hand)?,

@@ -8,8 +8,8 @@ use prehensile_core::search::translate_to_free::hand_root;
 use prehensile_core::search::{default_shoulder, GraspPlanner, GraspResult, SearchParams};
 use prehensile_core::{GraspMovement, HandModel, ObjectModel, Workspace};
 
-use crate::arm_trajectory::{ArmTrajectory, Waypoint};
-use crate::SimError;
+use crate::error::SimError;
+use crate::world::arm_trajectory::{ArmTrajectory, Waypoint};
 
 /// A grasp found by the search, as the simulation needs it.
 #[derive(Debug, Clone)]
@@ -49,9 +49,7 @@ pub fn plan_grasp_with(
 
 /// The movement the grasp scenarios search with: the hand's `power`, else its first.
 pub fn grasp_movement(hand: &HandModel) -> Result<&GraspMovement, SimError> {
-    hand.movement("power")
-        .or_else(|| hand.movements().first())
-        .ok_or_else(|| SimError::Hand(format!("hand '{}' has no movement", hand.name())))
+    Ok(prehensile_core::search::default_movement(hand)?)
 }
 
 /// [`plan_grasp_with`] along a given movement, from the default shoulder turned by
@@ -69,17 +67,11 @@ pub fn plan_grasp_along(
     let friction = params.contact_model.friction;
     let mut planner = GraspPlanner::new(hand, object, movement, shoulder, params)?;
     planner.run_to_end();
-    planner.best().ok_or_else(|| {
-        let why = match &planner.current().validity {
-            Err(reason) => format!(" (the last pose tried: {reason})"),
-            Ok(()) => String::new(),
-        };
-        SimError::NoGrasp(format!(
-            "no valid {} grasp of '{}' was found for hand '{}'{why}",
-            movement.name(),
-            object.name(),
-            hand.name()
-        ))
+    planner.best().ok_or_else(|| SimError::NoGrasp {
+        movement: movement.name().to_string(),
+        object: object.name().to_string(),
+        hand: hand.name().to_string(),
+        why: planner.current().validity.clone().err(),
     })?;
     let mut ws = Workspace::new(hand);
     let (found, ctx) = planner.chosen_pose(&mut ws);
@@ -98,20 +90,20 @@ pub fn plan_grasp_along(
 impl PlannedGrasp {
     /// The grasp of a search result (`prehensile grasp`'s output), for the same hand.
     pub fn from_result(hand: &HandModel, result: &GraspResult) -> Result<Self, SimError> {
-        let movement = hand.movement(&result.movement).ok_or_else(|| {
-            SimError::Hand(format!(
-                "the result names movement '{}', which hand '{}' lacks",
-                result.movement,
-                hand.name()
-            ))
-        })?;
+        let foreign = || SimError::ForeignResult {
+            movement: result.movement.clone(),
+            angles: result.joints.len(),
+            hand: hand.name().to_string(),
+            dofs: hand.dof_count(),
+            movements: hand
+                .movements()
+                .iter()
+                .map(|m| m.name().to_string())
+                .collect(),
+        };
+        let movement = hand.movement(&result.movement).ok_or_else(foreign)?;
         if result.joints.len() != hand.dof_count() {
-            return Err(SimError::Hand(format!(
-                "the result has {} joint angles, hand '{}' has {} degrees of freedom",
-                result.joints.len(),
-                hand.name(),
-                hand.dof_count()
-            )));
+            return Err(foreign());
         }
         let [x, y, z, w] = result.hook_rotation_xyzw;
         let rotation =
@@ -168,7 +160,7 @@ impl PlannedGrasp {
         let palm = self.root * hand.bones()[0].rest;
         let base = BaseMotion::at_rest(palm.rotation.inverse() * gravity);
         fit_controller(hand, &self.example(hand, &gains), gains, true, &base)
-            .map_err(|e| SimError::Settings(format!("fitting the controller: {e}")))
+            .map_err(SimError::from)
     }
 
     /// The root's place in the grasp, object frame.

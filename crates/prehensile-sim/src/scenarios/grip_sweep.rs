@@ -4,7 +4,7 @@
 
 use super::grasp::{example_controller, grasp_case};
 use super::{side_by_side, CaseReport, Options, Recording, Scenario};
-use crate::SimError;
+use crate::error::SimError;
 
 /// The swept grip strengths.
 pub const ALPHAS: [f64; 6] = [0.0, 0.1, 0.2, 0.3, 0.4, 0.5];

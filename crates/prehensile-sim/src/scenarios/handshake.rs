@@ -8,9 +8,9 @@ use prehensile_core::math::{Rotation, Transform, Vec3};
 use prehensile_core::HandModel;
 
 use super::{case, recording, step_until, CaseReport, Options, PlannedGrasp, Recording, Scenario};
-use crate::arm_trajectory::{ArmTrajectory, Waypoint};
+use crate::error::SimError;
 use crate::simulation::{DistanceTo, HandSetup, Simulation};
-use crate::SimError;
+use crate::world::arm_trajectory::{ArmTrajectory, Waypoint};
 
 /// Root offset along the fingers, metres, so each palm lies over the other.
 const ALONG: f64 = 0.09;

@@ -11,8 +11,9 @@ use prehensile_control::GraspController;
 use prehensile_core::search::{SearchParams, ValidityRule};
 
 use super::{grasp_arm, plan_grasp_with, GraspTimes, PlannedGrasp};
-use crate::simulation::{DistanceTo, HandSetup, Settings, Simulation};
-use crate::SimError;
+use crate::error::SimError;
+use crate::simulation::{DistanceTo, HandSetup, Simulation};
+use crate::world::settings::Settings;
 
 /// `hand` gripping `object` with grip strength 0.5, stepped with `settings` (whose gravity is
 /// replaced by one pressing the object into the palm), returned 50 ms after the object was let

@@ -17,8 +17,9 @@ use serde::Serialize;
 
 use super::held_still::closing_on_fixed_object;
 use super::PlannedGrasp;
-use crate::simulation::{Settings, Simulation};
-use crate::SimError;
+use crate::error::SimError;
+use crate::simulation::Simulation;
+use crate::world::settings::Settings;
 
 /// Largest move of the object in the hand that still counts as held, metres.
 pub const HOLD_MOVE: f64 = 0.02;
@@ -115,9 +116,12 @@ pub fn hold_test(
     alpha: f64,
 ) -> Result<HoldReport, SimError> {
     if !(alpha.is_finite() && (0.0..=1.0).contains(&alpha)) {
-        return Err(SimError::Settings(format!(
-            "grip strength alpha must be in [0, 1] (got {alpha})"
-        )));
+        return Err(SimError::OutOfRange {
+            setting: "alpha",
+            value: alpha,
+            low: 0.0,
+            high: 1.0,
+        });
     }
     settings.check()?;
     let g = settings.gravity.norm();

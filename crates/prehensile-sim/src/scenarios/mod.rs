@@ -20,9 +20,10 @@ use prehensile_core::math::Transform;
 use prehensile_core::{GraspMovement, HandModel, ObjectModel};
 use serde::Serialize;
 
-use crate::physics_engine::Engine;
-use crate::simulation::{Settings, Simulation, StateChange};
-use crate::SimError;
+use crate::error::SimError;
+use crate::simulation::{Simulation, StateChange};
+use crate::world::settings::Engine;
+use crate::world::settings::Settings;
 
 pub use grasp_plan::{
     grasp_arm, grasp_movement, plan_grasp, plan_grasp_along, plan_grasp_with, GraspTimes,
@@ -65,19 +66,6 @@ impl Scenario {
         "shake",
     ];
 
-    /// The scenario of a command-line name.
-    pub fn from_name(name: &str) -> Option<Self> {
-        Some(match name {
-            "drop" => Self::Drop,
-            "grasp" => Self::Grasp,
-            "grip-sweep" => Self::GripSweep,
-            "handshake" => Self::Handshake,
-            "open-close" => Self::OpenClose,
-            "shake" => Self::Shake,
-            _ => return None,
-        })
-    }
-
     /// The command-line name.
     pub fn name(self) -> &'static str {
         Self::NAMES[self as usize]
@@ -93,6 +81,57 @@ impl Scenario {
             Self::Shake => 2.5,
         }
     }
+}
+
+impl std::str::FromStr for Scenario {
+    type Err = SimError;
+
+    fn from_str(name: &str) -> Result<Self, SimError> {
+        Ok(match name {
+            "drop" => Self::Drop,
+            "grasp" => Self::Grasp,
+            "grip-sweep" => Self::GripSweep,
+            "handshake" => Self::Handshake,
+            "open-close" => Self::OpenClose,
+            "shake" => Self::Shake,
+            _ => {
+                return Err(SimError::UnknownName {
+                    what: "scenario",
+                    name: name.to_string(),
+                    known: &Self::NAMES,
+                })
+            }
+        })
+    }
+}
+
+impl std::fmt::Display for Scenario {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// The defaults of a scenario run, in one place: the CLI's help and the Python signatures read
+/// these (the world's own are [`Settings::default`]).
+pub mod defaults {
+    use super::Scenario;
+
+    /// The scenario.
+    pub const SCENARIO: Scenario = Scenario::Grasp;
+    /// The hand.
+    pub const HAND: &str = "human";
+    /// The objects.
+    pub const OBJECTS: [&str; 3] = ["sphere", "box", "cylinder"];
+    /// Grip strength α (Eq. 15–16; the paper used 0 to 0.5).
+    pub const ALPHA: f64 = 0.5;
+    /// The largest grip strength a run takes.
+    pub const MAX_ALPHA: f64 = 2.0;
+    /// Grasps per object the grasp scenarios try ([`super::CANDIDATES`]).
+    pub const CANDIDATES: usize = super::CANDIDATES;
+    /// The most grasps per object a run tries.
+    pub const MAX_CANDIDATES: usize = 20;
+    /// The longest case a run simulates, seconds.
+    pub const MAX_SECONDS: f64 = 600.0;
 }
 
 /// What to run.
@@ -147,6 +186,33 @@ pub fn shoulder_turn_degrees(k: usize) -> f64 {
 }
 
 impl Options {
+    /// Refuses options that cannot give a meaningful run (the world's settings included).
+    pub fn check(&self) -> Result<(), SimError> {
+        self.settings.check()?;
+        let range = |setting, value: f64, low, high| {
+            if value.is_finite() && (low..=high).contains(&value) {
+                Ok(())
+            } else {
+                Err(SimError::OutOfRange {
+                    setting,
+                    value,
+                    low,
+                    high,
+                })
+            }
+        };
+        range("alpha", self.alpha, 0.0, defaults::MAX_ALPHA)?;
+        if let Some(s) = self.seconds {
+            range("seconds", s, 1e-3, defaults::MAX_SECONDS)?;
+        }
+        range(
+            "candidates",
+            self.candidates as f64,
+            1.0,
+            defaults::MAX_CANDIDATES as f64,
+        )
+    }
+
     /// The power grasp of `object` ([`plan_grasp`]), searched with
     /// [`SEARCH_FRICTION_SHARE`] of the world's friction and, when that finds no valid grasp,
     /// with the whole of it (the Shadow hand's sphere grasp is valid only there). The search's
@@ -170,7 +236,7 @@ impl Options {
             plan_grasp_along(&self.hand, object, movement, shoulder_turn, params)
         };
         match search(SEARCH_FRICTION_SHARE * self.settings.friction) {
-            Err(SimError::NoGrasp(_)) => search(self.settings.friction),
+            Err(SimError::NoGrasp { .. }) => search(self.settings.friction),
             found => found,
         }
     }
@@ -249,20 +315,7 @@ pub fn run(
     options: &Options,
     progress: &mut (dyn FnMut(&str, f64) + Send),
 ) -> Result<(RunReport, Recording), SimError> {
-    options.settings.check()?;
-    if !(options.alpha.is_finite() && (0.0..=2.0).contains(&options.alpha)) {
-        return Err(SimError::Settings(format!(
-            "grip strength α {} must be in [0, 2] (the paper used 0 to 0.5)",
-            options.alpha
-        )));
-    }
-    if let Some(s) = options.seconds {
-        if !(s.is_finite() && s > 0.0 && s <= 600.0) {
-            return Err(SimError::Settings(format!(
-                "{s} simulated seconds: give more than 0 and at most 600"
-            )));
-        }
-    }
+    options.check()?;
     let mut cases = Vec::new();
     let mut recording = Recording::default();
     let mut add = |case: (CaseReport, Recording)| {

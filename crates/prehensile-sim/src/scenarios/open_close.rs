@@ -4,7 +4,7 @@
 
 use super::grasp::{example_controller, grasp_case};
 use super::{CaseReport, GraspTimes, Options, Recording, Scenario};
-use crate::SimError;
+use crate::error::SimError;
 use prehensile_control::Setpoint;
 
 pub(crate) fn run(

@@ -10,9 +10,9 @@ use super::{
     case, recording, side_by_side, step_until, CaseReport, Options, PlannedGrasp, Recording,
     Scenario,
 };
-use crate::arm_trajectory::{ArmTrajectory, Shake, Waypoint};
+use crate::error::SimError;
 use crate::simulation::{DistanceTo, HandSetup, Simulation};
-use crate::SimError;
+use crate::world::arm_trajectory::{ArmTrajectory, Shake, Waypoint};
 
 /// The shake starts here, seconds (the hand settles before).
 const SHAKE_FROM: f64 = 0.5;

@@ -9,7 +9,7 @@ use prehensile_core::hand::Joint;
 use prehensile_core::math::{Rotation, Transform, Vec3};
 use prehensile_core::HandModel;
 use prehensile_sim::{
-    ArmTrajectory, DistanceTo, Engine, HandSetup, Settings, Simulation, Waypoint,
+    ArmTrajectory, DistanceTo, Engine, HandSetup, RapierSettings, Settings, Simulation, Waypoint,
 };
 
 /// Both engines carry ball joints the same way: every test runs on each.
@@ -236,7 +236,10 @@ fn at_rest_under_gravity_the_springs_act_through_the_whole_inertia_block() {
             // Converged joints: with the default solver at 1 ms the motors hold a static load with
             // up to 1.12× the sag their gains give (docs/PERFORMANCE.md), which would blur the
             // cross terms.
-            solver_iterations: 20,
+            rapier: RapierSettings {
+                solver_iterations: 20,
+                ..RapierSettings::default()
+            },
             engine,
             ..Settings::default()
         });

@@ -27,7 +27,7 @@ fn body_wrenches_through_the_joints_equal_inverse_dynamics_with_a_moving_base() 
         })
         .collect();
     let mut frames = vec![Transform::identity(); hand.bones().len()];
-    prehensile_core::kinematics::forward_kinematics(&hand, &root, &rotations, &mut frames);
+    prehensile_core::hand::kinematics::forward_kinematics(&hand, &root, &rotations, &mut frames);
     let palm = frames[0];
     let motion = FrameMotion {
         origin: palm.translation.vector.into(),
