@@ -102,113 +102,173 @@ fn list_of(item: DataType) -> DataType {
     DataType::List(Arc::new(Field::new("item", item, true)))
 }
 
+/// The type of a column.
+#[derive(Clone, Copy)]
+enum Kind {
+    Text,
+    Texts,
+    U32,
+    U64,
+    F64,
+    F64s,
+    Bool,
+}
+
+impl Kind {
+    fn data_type(self) -> DataType {
+        match self {
+            Self::Text => DataType::Utf8,
+            Self::Texts => list_of(DataType::Utf8),
+            Self::U32 => DataType::UInt32,
+            Self::U64 => DataType::UInt64,
+            Self::F64 => DataType::Float64,
+            Self::F64s => list_of(DataType::Float64),
+            Self::Bool => DataType::Boolean,
+        }
+    }
+}
+
+use Kind::{Bool, F64s, Text, Texts, F64, U32, U64};
+
+/// Every column: its name, type, whether it may be null, and what it means.
+const COLUMNS: [(&str, Kind, bool, &str); 32] = [
+    (
+        "hand",
+        Text,
+        false,
+        "hand as given: a built-in name or a file",
+    ),
+    (
+        "object",
+        Text,
+        false,
+        "object as given: a built-in name or a mesh file",
+    ),
+    (
+        "movement_requested",
+        Text,
+        false,
+        "movement asked for (auto tries each)",
+    ),
+    (
+        "shoulder_choice",
+        Text,
+        false,
+        "shoulder as given: default or X,Y,Z",
+    ),
+    ("seed", U64, false, "seed of the random search angles"),
+    (
+        "status",
+        Text,
+        false,
+        "valid, invalid (searched, nothing valid) or error (did not run)",
+    ),
+    ("reason", Text, true, "why not valid, or the error"),
+    ("hand_name", Text, true, "the hand's own name"),
+    ("object_name", Text, true, "the object's own name"),
+    ("movement", Text, true, "the movement of the chosen result"),
+    (
+        "shoulder",
+        F64s,
+        true,
+        "shoulder position used, object frame, metres",
+    ),
+    ("hook", F64s, true, "hook position, object frame, metres"),
+    (
+        "quality",
+        F64,
+        true,
+        "the search's quality (null when -inf)",
+    ),
+    ("gdist", F64, true, "quality term gDist, metres"),
+    ("fdist", F64, true, "quality term fDist"),
+    ("tdist", F64, true, "quality term tDist*"),
+    ("wdist", F64, true, "quality term wDist"),
+    ("stability_term", F64, true, "quality term epsilon times L"),
+    (
+        "force_closure",
+        Bool,
+        true,
+        "contacts in force closure with the friction cones",
+    ),
+    (
+        "epsilon",
+        F64,
+        true,
+        "Ferrari-Canny epsilon (L1), torques over torque_scale",
+    ),
+    (
+        "load_ratio",
+        F64s,
+        true,
+        "load held along +x,-x,+y,-y,+z,-z per newton of grip",
+    ),
+    (
+        "torque_scale",
+        F64,
+        true,
+        "metres dividing torques in epsilon",
+    ),
+    ("contact_count", U32, true, "number of contacts"),
+    (
+        "fingers_touching",
+        Texts,
+        true,
+        "fingers touching the object",
+    ),
+    (
+        "joint_names",
+        Texts,
+        true,
+        "joint degrees of freedom, the hand file's names",
+    ),
+    ("joint_angles", F64s, true, "their angles, radians"),
+    (
+        "wrist_position",
+        F64s,
+        true,
+        "wrist (root bone) position, metres",
+    ),
+    (
+        "wrist_rotation_xyzw",
+        F64s,
+        true,
+        "wrist rotation, unit quaternion x,y,z,w",
+    ),
+    (
+        "steps",
+        U32,
+        true,
+        "optimization steps of the chosen search",
+    ),
+    (
+        "evaluations",
+        U64,
+        true,
+        "poses evaluated by the chosen search",
+    ),
+    (
+        "setup_seconds",
+        F64,
+        false,
+        "reading and setting up the object (shared by its rows)",
+    ),
+    (
+        "search_seconds",
+        F64,
+        false,
+        "search time of this attempt, all movements",
+    ),
+];
+
 /// The dataset's columns, in order, with what each means (also written to the manifest).
 pub fn columns() -> Vec<(Field, &'static str)> {
-    use DataType::{Boolean, Float64, UInt32, UInt64, Utf8};
-    let f = |name: &str, t: DataType, nullable: bool| Field::new(name, t, nullable);
-    vec![
-        (
-            f("hand", Utf8, false),
-            "hand as given: a built-in name or a file",
-        ),
-        (
-            f("object", Utf8, false),
-            "object as given: a built-in name or a mesh file",
-        ),
-        (
-            f("movement_requested", Utf8, false),
-            "movement asked for (auto tries each)",
-        ),
-        (
-            f("shoulder_choice", Utf8, false),
-            "shoulder as given: default or X,Y,Z",
-        ),
-        (f("seed", UInt64, false), "seed of the random search angles"),
-        (
-            f("status", Utf8, false),
-            "valid, invalid (searched, nothing valid) or error (did not run)",
-        ),
-        (f("reason", Utf8, true), "why not valid, or the error"),
-        (f("hand_name", Utf8, true), "the hand's own name"),
-        (f("object_name", Utf8, true), "the object's own name"),
-        (
-            f("movement", Utf8, true),
-            "the movement of the chosen result",
-        ),
-        (
-            f("shoulder", list_of(Float64), true),
-            "shoulder position used, object frame, metres",
-        ),
-        (
-            f("hook", list_of(Float64), true),
-            "hook position, object frame, metres",
-        ),
-        (
-            f("quality", Float64, true),
-            "the search's quality (null when -inf)",
-        ),
-        (f("gdist", Float64, true), "quality term gDist, metres"),
-        (f("fdist", Float64, true), "quality term fDist"),
-        (f("tdist", Float64, true), "quality term tDist*"),
-        (f("wdist", Float64, true), "quality term wDist"),
-        (
-            f("stability_term", Float64, true),
-            "quality term epsilon times L",
-        ),
-        (
-            f("force_closure", Boolean, true),
-            "contacts in force closure with the friction cones",
-        ),
-        (
-            f("epsilon", Float64, true),
-            "Ferrari-Canny epsilon (L1), torques over torque_scale",
-        ),
-        (
-            f("load_ratio", list_of(Float64), true),
-            "load held along +x,-x,+y,-y,+z,-z per newton of grip",
-        ),
-        (
-            f("torque_scale", Float64, true),
-            "metres dividing torques in epsilon",
-        ),
-        (f("contact_count", UInt32, true), "number of contacts"),
-        (
-            f("fingers_touching", list_of(Utf8), true),
-            "fingers touching the object",
-        ),
-        (
-            f("joint_names", list_of(Utf8), true),
-            "joint degrees of freedom, the hand file's names",
-        ),
-        (
-            f("joint_angles", list_of(Float64), true),
-            "their angles, radians",
-        ),
-        (
-            f("wrist_position", list_of(Float64), true),
-            "wrist (root bone) position, metres",
-        ),
-        (
-            f("wrist_rotation_xyzw", list_of(Float64), true),
-            "wrist rotation, unit quaternion x,y,z,w",
-        ),
-        (
-            f("steps", UInt32, true),
-            "optimization steps of the chosen search",
-        ),
-        (
-            f("evaluations", UInt64, true),
-            "poses evaluated by the chosen search",
-        ),
-        (
-            f("setup_seconds", Float64, false),
-            "reading and setting up the object (shared by its rows)",
-        ),
-        (
-            f("search_seconds", Float64, false),
-            "search time of this attempt, all movements",
-        ),
-    ]
+    COLUMNS
+        .iter()
+        .map(|&(name, kind, nullable, meaning)| {
+            (Field::new(name, kind.data_type(), nullable), meaning)
+        })
+        .collect()
 }
 
 /// The Arrow schema of [`columns`].

@@ -80,6 +80,15 @@ fn counts(hand: &HandModel, object: &ObjectModel, p: &SearchParams) -> (f64, f64
 fn bench(c: &mut Criterion) {
     let hand = prehensile_formats::builtin_hand("human").unwrap();
     let object = torus16k();
+    thesis_table(c, &hand, &object);
+    let sphere =
+        ObjectModel::new("sphere", shapes::builtin_object("sphere").unwrap(), None).unwrap();
+    whole_grasps(c, &hand, &object, &sphere);
+    stability_judging(c, &hand, &object, &sphere);
+}
+
+/// The thesis's §6.6 table: one optimization step of each combination a–h.
+fn thesis_table(c: &mut Criterion, hand: &HandModel, object: &ObjectModel) {
     let movement = hand.movement("power").unwrap();
     // (name, P, v target -> step length, N, the thesis's T_AVG in ms)
     let table = [
@@ -97,7 +106,7 @@ fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("thesis_table_step");
     for (name, kind, v, n, thesis_ms) in table {
         let p = params(kind, step_for_v(v), n, 0);
-        let (v_real, queries, placing_nothing) = counts(&hand, &object, &p);
+        let (v_real, queries, placing_nothing) = counts(hand, object, &p);
         eprintln!(
             "{name}: P={} v={v} (measured {v_real:.1}) N={n}: {queries:.0} capsule queries per step (thesis model P*nb*(v+N) = {}), {:.0}% of steps place nothing, thesis T_AVG {thesis_ms} ms",
             kind.poses(),
@@ -128,7 +137,7 @@ fn bench(c: &mut Criterion) {
                             ..params(kind, step_for_v(v), n, seed)
                         };
                         let mut planner =
-                            GraspPlanner::new(&hand, &object, movement, Point3::from(SHOULDER), p)
+                            GraspPlanner::new(hand, object, movement, Point3::from(SHOULDER), p)
                                 .unwrap();
                         // The start (initial approximation) is setup, not a step: the planner
                         // does it in slices of its first steps, so finish it here.
@@ -144,11 +153,12 @@ fn bench(c: &mut Criterion) {
         }
     }
     group.finish();
+}
 
+/// Whole power grasps, start to converged, on one thread and two.
+fn whole_grasps(c: &mut Criterion, hand: &HandModel, object: &ObjectModel, sphere: &ObjectModel) {
     let mut group = c.benchmark_group("whole_grasp");
-    let sphere =
-        ObjectModel::new("sphere", shapes::builtin_object("sphere").unwrap(), None).unwrap();
-    for ((label, obj), threads) in [("torus16k", &object), ("sphere", &sphere)]
+    for ((label, obj), threads) in [("torus16k", object), ("sphere", sphere)]
         .into_iter()
         .flat_map(|o| [(o, 1), (o, 2)])
     {
@@ -165,16 +175,23 @@ fn bench(c: &mut Criterion) {
                     threads,
                     ..Default::default()
                 };
-                whole_search(&hand, obj, p)
+                whole_search(hand, obj, p)
             })
         });
     }
     group.finish();
+}
 
-    // Side by side in one run: whole power grasps (seeds 1-6 in turn, so each side sees the same
-    // searches) with every candidate's stability judged and with it judged lazily.
+/// Side by side in one run: whole power grasps (seeds 1-6 in turn, so each side sees the same
+/// searches) with every candidate's stability judged and with it judged lazily.
+fn stability_judging(
+    c: &mut Criterion,
+    hand: &HandModel,
+    object: &ObjectModel,
+    sphere: &ObjectModel,
+) {
     let mut group = c.benchmark_group("stability_judging");
-    for (label, obj) in [("torus16k", &object), ("sphere", &sphere)] {
+    for (label, obj) in [("torus16k", object), ("sphere", sphere)] {
         for lazy_stability in [false, true] {
             let mut seed = 0;
             let how = if lazy_stability {
@@ -190,7 +207,7 @@ fn bench(c: &mut Criterion) {
                         lazy_stability,
                         ..Default::default()
                     };
-                    whole_search(&hand, obj, p)
+                    whole_search(hand, obj, p)
                 })
             });
         }

@@ -23,8 +23,20 @@ struct Search {
     epsilon: f64,
 }
 
+/// A request: (hand, object, seed).
+type Request = (String, String, u64);
+
 fn main() {
-    let hands: Vec<(&str, HandModel)> = vec![
+    let hands = hands();
+    let objects = objects();
+    let requests = search_all(&hands, &objects);
+    print_first_valid_quantiles(&requests);
+    print_patience_outcomes(&requests);
+}
+
+/// The human, Shadow and cartoon4 hands.
+fn hands() -> Vec<(&'static str, HandModel)> {
+    vec![
         ("human", prehensile_formats::builtin_hand("human").unwrap()),
         (
             "shadow",
@@ -35,7 +47,11 @@ fn main() {
             "cartoon4",
             prehensile_formats::builtin_hand("cartoon4").unwrap(),
         ),
-    ];
+    ]
+}
+
+/// The built-in objects and the meshes of `assets/objects`.
+fn objects() -> Vec<(String, ObjectModel)> {
     let mut objects: Vec<(String, ObjectModel)> = ["sphere", "box", "cylinder", "torus", "mug"]
         .iter()
         .map(|n| {
@@ -53,10 +69,17 @@ fn main() {
         let name = path.file_stem().unwrap().to_string_lossy().to_string();
         objects.push((name, prehensile_formats::load_object(&path, 1.0).unwrap()));
     }
-    // (hand, object, seed) → the searches of its movements.
-    let mut requests: BTreeMap<(String, String, u64), Vec<Search>> = BTreeMap::new();
-    for (hand_name, hand) in &hands {
-        for (object_name, object) in &objects {
+    objects
+}
+
+/// Every request's searches, one per movement but `close`, each to its stop rule.
+fn search_all(
+    hands: &[(&str, HandModel)],
+    objects: &[(String, ObjectModel)],
+) -> BTreeMap<Request, Vec<Search>> {
+    let mut requests: BTreeMap<Request, Vec<Search>> = BTreeMap::new();
+    for (hand_name, hand) in hands {
+        for (object_name, object) in objects {
             let shoulder = default_shoulder(hand, &object.center_of_mass(), &Vec3::z());
             for seed in 1..=3 {
                 for movement in hand.movements().iter().filter(|m| m.name() != "close") {
@@ -99,6 +122,11 @@ fn main() {
             }
         }
     }
+    requests
+}
+
+/// The quantiles of the step each valid search first had a valid pose at.
+fn print_first_valid_quantiles(requests: &BTreeMap<Request, Vec<Search>>) {
     let mut firsts: Vec<u32> = requests
         .values()
         .flatten()
@@ -117,6 +145,11 @@ fn main() {
         quantile(0.99),
         quantile(1.0)
     );
+}
+
+/// For several patiences, how many `auto` winners the patience rule changes and how many steps
+/// it saves.
+fn print_patience_outcomes(requests: &BTreeMap<Request, Vec<Search>>) {
     let winner = |searches: &[(bool, f64)]| {
         (0..searches.len())
             .max_by(|&a, &b| searches[a].partial_cmp(&searches[b]).unwrap())

@@ -14,7 +14,7 @@
 //! let object = ObjectModel::new("sphere", mesh, None).unwrap();
 //! assert!(object.volume() > 0.0);
 //! ```
-#![warn(missing_docs)]
+#![deny(missing_docs)]
 
 pub mod animation;
 pub mod collision;

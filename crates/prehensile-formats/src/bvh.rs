@@ -156,18 +156,36 @@ const CHANNELS: [&str; 6] = [
 /// Most frames or channels accepted, to bound memory on absurd headers.
 const MAX_VALUES: usize = 50_000_000;
 
+/// The lines of a BVH text, numbered from 0.
+type Lines<'a> = std::iter::Enumerate<std::str::Lines<'a>>;
+
+/// An error at line `n` (0-based) of `source`.
+fn at_line(source: &str, n: usize, reason: String) -> FormatError {
+    FormatError::at(source, format!("line {}", n + 1), reason)
+}
+
 /// Parses BVH text. Errors name the line.
 pub fn parse_bvh(text: &str, source: &str) -> Result<BvhMotion, FormatError> {
+    let mut lines = text.lines().enumerate();
+    let joints = parse_hierarchy(&mut lines, source)?;
+    let (frame_time, frames) = parse_motion(&mut lines, &joints, source)?;
+    Ok(BvhMotion {
+        joints,
+        frame_time,
+        frames,
+    })
+}
+
+/// The joints of the HIERARCHY section, up to and including its MOTION line.
+fn parse_hierarchy(lines: &mut Lines, source: &str) -> Result<Vec<BvhJoint>, FormatError> {
     let mut joints: Vec<BvhJoint> = Vec::new();
     let mut stack: Vec<Option<usize>> = Vec::new();
-    let mut lines = text.lines().enumerate().peekable();
-    let err = |n: usize, reason: String| FormatError::at(source, format!("line {}", n + 1), reason);
+    let err = |n: usize, reason: String| at_line(source, n, reason);
     let mut in_end_site = 0usize;
-    let mut motion_line = None;
     for (n, raw) in lines.by_ref() {
         let words: Vec<&str> = raw.split_whitespace().collect();
         match words.as_slice() {
-            ["HIERARCHY"] | [] => {}
+            ["HIERARCHY"] | [] | ["OFFSET", ..] => {}
             ["ROOT" | "JOINT", name] => {
                 joints.push(BvhJoint {
                     name: name.to_string(),
@@ -189,47 +207,44 @@ pub fn parse_bvh(text: &str, source: &str) -> Result<BvhMotion, FormatError> {
                     in_end_site -= 1;
                 }
             }
-            ["OFFSET", ..] => {}
             ["CHANNELS", count, names @ ..] => {
-                let count: usize = count
-                    .parse()
-                    .map_err(|_| err(n, format!("'{count}' is not a channel count")))?;
-                if names.len() != count {
-                    return Err(err(
-                        n,
-                        format!("CHANNELS says {count} but lists {}", names.len()),
-                    ));
-                }
                 let joint = joints
                     .last_mut()
                     .ok_or_else(|| err(n, "CHANNELS before any joint".into()))?;
-                if let Some(bad) = names.iter().find(|c| !CHANNELS.contains(c)) {
-                    return Err(err(
-                        n,
-                        format!(
-                            "unknown channel '{bad}'; BVH channels are {}",
-                            CHANNELS.join(", ")
-                        ),
-                    ));
-                }
-                joint.channels = names.iter().map(|s| s.to_string()).collect();
+                joint.channels = parse_channels(count, names).map_err(|e| err(n, e))?;
             }
-            ["MOTION"] => {
-                motion_line = Some(n);
-                break;
-            }
+            ["MOTION"] if stack.is_empty() => return Ok(joints),
+            ["MOTION"] => return Err(err(n, "the hierarchy's braces are not balanced".into())),
             other => return Err(err(n, format!("unexpected '{}'", other.join(" ")))),
         }
     }
-    let Some(motion_at) = motion_line else {
-        return Err(FormatError::new(source, "no MOTION section"));
-    };
-    if !stack.is_empty() {
-        return Err(err(
-            motion_at,
-            "the hierarchy's braces are not balanced".into(),
+    Err(FormatError::new(source, "no MOTION section"))
+}
+
+/// A CHANNELS line's names, checked against its count and the channels BVH has.
+fn parse_channels(count: &str, names: &[&str]) -> Result<Vec<String>, String> {
+    let count: usize = count
+        .parse()
+        .map_err(|_| format!("'{count}' is not a channel count"))?;
+    if names.len() != count {
+        return Err(format!("CHANNELS says {count} but lists {}", names.len()));
+    }
+    if let Some(bad) = names.iter().find(|c| !CHANNELS.contains(c)) {
+        return Err(format!(
+            "unknown channel '{bad}'; BVH channels are {}",
+            CHANNELS.join(", ")
         ));
     }
+    Ok(names.iter().map(|s| s.to_string()).collect())
+}
+
+/// The MOTION section after its MOTION line: the frame time and every frame's values.
+fn parse_motion(
+    lines: &mut Lines,
+    joints: &[BvhJoint],
+    source: &str,
+) -> Result<(f64, Vec<Vec<f64>>), FormatError> {
+    let err = |n: usize, reason: String| at_line(source, n, reason);
     let mut next_value = |prefix: &str| -> Result<(usize, String), FormatError> {
         let (n, line) = lines
             .next()
@@ -294,11 +309,7 @@ pub fn parse_bvh(text: &str, source: &str) -> Result<BvhMotion, FormatError> {
             ),
         ));
     }
-    Ok(BvhMotion {
-        joints,
-        frame_time,
-        frames,
-    })
+    Ok((frame_time, frames))
 }
 
 impl BvhMotion {

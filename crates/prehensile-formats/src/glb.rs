@@ -199,18 +199,10 @@ fn animated_glb(
     skin: Option<&SkinnedMesh>,
     animation_name: &str,
 ) -> Vec<u8> {
-    let mut b = Builder::default();
-    let materials = json!([
-        {"name": "object", "pbrMetallicRoughness": {"baseColorFactor": [0.75, 0.75, 0.78, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.8}},
-        {"name": "hand", "pbrMetallicRoughness": {"baseColorFactor": [0.86, 0.55, 0.42, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.6}}
-    ]);
-    let mut meshes = Vec::new();
-    let mut nodes = Vec::new();
+    let mut scene = Scene::default();
     if let Some(object) = object {
-        meshes.push(b.mesh(&object.vertices, &object.triangles, 0));
-        nodes.push(json!({"name": "object", "mesh": 0}));
+        scene.add_object(object);
     }
-    let mut scene_nodes: Vec<usize> = (0..nodes.len()).collect();
     // Each hand's keyframes (its rest pose at the origin when it has none) and first node.
     let mut tracks: Vec<(&HandModel, Vec<Keyframe>, usize)> = Vec::new();
     for (h, (hand, keyframes)) in hands.iter().enumerate() {
@@ -228,9 +220,55 @@ fn animated_glb(
         } else {
             String::new()
         };
-        let first_bone = nodes.len();
+        let first_bone = scene.add_hand(hand, &keyframes[0], &prefix);
+        tracks.push((hand, keyframes, first_bone));
+    }
+    if let (Some(skin), Some((hand, _, first_bone))) =
+        (skin.filter(|s| !s.positions.is_empty()), tracks.first())
+    {
+        scene.add_skin(skin, hand, *first_bone);
+    }
+    for (h, (hand, keyframes, first_bone)) in tracks.iter().enumerate() {
+        if keyframes.len() < 2 {
+            continue;
+        }
+        let times: Vec<f32> = keyframes.iter().map(|k| k.time as f32).collect();
+        let input = scene.b.floats(&times, "SCALAR", 1, None, true);
+        scene.animate_hand(hand, keyframes, *first_bone, input);
+        if h == 0 && object.is_some() && object_track.len() == keyframes.len() {
+            scene.animate_object(object_track, input);
+        }
+    }
+    scene.finish(animation_name)
+}
+
+/// A glTF scene being built: the binary buffer and the JSON arrays that point into it.
+#[derive(Default)]
+struct Scene {
+    b: Builder,
+    meshes: Vec<serde_json::Value>,
+    nodes: Vec<serde_json::Value>,
+    scene_nodes: Vec<usize>,
+    skins: Vec<serde_json::Value>,
+    samplers: Vec<serde_json::Value>,
+    channels: Vec<serde_json::Value>,
+}
+
+impl Scene {
+    /// The object's mesh as node 0.
+    fn add_object(&mut self, object: &TriangleMesh) {
+        self.meshes
+            .push(self.b.mesh(&object.vertices, &object.triangles, 0));
+        self.nodes.push(json!({"name": "object", "mesh": 0}));
+        self.scene_nodes.push(self.nodes.len() - 1);
+    }
+
+    /// The hand's bones as nodes posed at `first`, each with its capsules' mesh; returns the
+    /// first bone's node.
+    fn add_hand(&mut self, hand: &HandModel, first: &Keyframe, prefix: &str) -> usize {
+        let first_bone = self.nodes.len();
         for (k, bone) in hand.bones().iter().enumerate() {
-            let (translation, rotation) = trs(&bone_local(hand, &keyframes[0], k));
+            let (translation, rotation) = trs(&bone_local(hand, first, k));
             let mut node = json!({"name": format!("{prefix}{}", bone.name), "translation": translation, "rotation": rotation});
             let children: Vec<usize> = hand
                 .bones()
@@ -248,18 +286,18 @@ fn animated_glb(
                 for c in capsules {
                     capsule_triangles(&c.a, &c.b, c.radius, &mut p, &mut t);
                 }
-                node["mesh"] = json!(meshes.len());
-                meshes.push(b.mesh(&p, &t, 1));
+                node["mesh"] = json!(self.meshes.len());
+                self.meshes.push(self.b.mesh(&p, &t, 1));
             }
-            nodes.push(node);
+            self.nodes.push(node);
         }
-        scene_nodes.push(first_bone);
-        tracks.push((hand, keyframes, first_bone));
+        self.scene_nodes.push(first_bone);
+        first_bone
     }
-    let mut skins = Vec::new();
-    if let (Some(skin), Some((hand, _, first_bone))) =
-        (skin.filter(|s| !s.positions.is_empty()), tracks.first())
-    {
+
+    /// The hand's own skinned mesh, bound to its bone nodes from `first_bone`.
+    fn add_skin(&mut self, skin: &SkinnedMesh, hand: &HandModel, first_bone: usize) {
+        let b = &mut self.b;
         let p: Vec<f32> = skin
             .positions
             .iter()
@@ -279,84 +317,108 @@ fn animated_glb(
         let weights = b.floats(&w, "VEC4", 4, Some(34962), false);
         let idx: Vec<u32> = skin.triangles.iter().flatten().copied().collect();
         let indices = b.indices(&idx);
-        meshes.push(json!({"name": "skinned hand", "primitives": [{"attributes": {"POSITION": position, "JOINTS_0": joints, "WEIGHTS_0": weights}, "indices": indices, "material": 1}]}));
+        self.meshes.push(json!({"name": "skinned hand", "primitives": [{"attributes": {"POSITION": position, "JOINTS_0": joints, "WEIGHTS_0": weights}, "indices": indices, "material": 1}]}));
         // Inverse bind matrices: the bones' rest frames, which the mesh is posed in.
         let inverse_bind = b.floats(&inverse_bind_matrices(hand), "MAT4", 16, None, false);
-        skins.push(json!({"joints": (0..hand.bones().len()).map(|k| first_bone + k).collect::<Vec<_>>(), "inverseBindMatrices": inverse_bind}));
-        nodes.push(json!({"name": "skinned hand", "mesh": meshes.len() - 1, "skin": 0}));
-        scene_nodes.push(nodes.len() - 1);
+        self.skins.push(json!({"joints": (0..hand.bones().len()).map(|k| first_bone + k).collect::<Vec<_>>(), "inverseBindMatrices": inverse_bind}));
+        self.nodes
+            .push(json!({"name": "skinned hand", "mesh": self.meshes.len() - 1, "skin": 0}));
+        self.scene_nodes.push(self.nodes.len() - 1);
     }
-    let (mut samplers, mut channels) = (Vec::new(), Vec::new());
-    for (h, (hand, keyframes, first_bone)) in tracks.iter().enumerate() {
-        if keyframes.len() < 2 {
-            continue;
-        }
-        let times: Vec<f32> = keyframes.iter().map(|k| k.time as f32).collect();
-        let input = b.floats(&times, "SCALAR", 1, None, true);
+
+    /// A linear sampler of `values` (`kind`, `width` numbers each) at the times of accessor
+    /// `input`, driving `path` of `node`.
+    fn channel(
+        &mut self,
+        input: usize,
+        values: &[f32],
+        (kind, width): (&str, usize),
+        node: usize,
+        path: &str,
+    ) {
+        let output = self.b.floats(values, kind, width, None, false);
+        self.samplers
+            .push(json!({"input": input, "output": output, "interpolation": "LINEAR"}));
+        self.channels.push(
+            json!({"sampler": self.samplers.len() - 1, "target": {"node": node, "path": path}}),
+        );
+    }
+
+    /// Every bone's rotation over the keyframes, and the root's translation.
+    fn animate_hand(
+        &mut self,
+        hand: &HandModel,
+        keyframes: &[Keyframe],
+        first_bone: usize,
+        input: usize,
+    ) {
         for k in 0..hand.bones().len() {
             let locals: Vec<Transform> = keyframes.iter().map(|f| bone_local(hand, f, k)).collect();
             let rotations: Vec<f32> = locals
                 .iter()
                 .flat_map(|t| trs(t).1.into_iter().map(|v| v as f32))
                 .collect();
-            let output = b.floats(&rotations, "VEC4", 4, None, false);
-            samplers.push(json!({"input": input, "output": output, "interpolation": "LINEAR"}));
-            channels.push(json!({"sampler": samplers.len() - 1, "target": {"node": first_bone + k, "path": "rotation"}}));
+            self.channel(input, &rotations, ("VEC4", 4), first_bone + k, "rotation");
             if hand.bones()[k].parent.is_none() {
                 let translations: Vec<f32> = locals
                     .iter()
                     .flat_map(|t| trs(t).0.into_iter().map(|v| v as f32))
                     .collect();
-                let output = b.floats(&translations, "VEC3", 3, None, false);
-                samplers.push(json!({"input": input, "output": output, "interpolation": "LINEAR"}));
-                channels.push(json!({"sampler": samplers.len() - 1, "target": {"node": first_bone + k, "path": "translation"}}));
-            }
-        }
-        if h == 0 && object.is_some() && object_track.len() == keyframes.len() {
-            let (translations, rotations): (Vec<Vec<f64>>, Vec<Vec<f64>>) =
-                object_track.iter().map(trs).unzip();
-            for (path, values, kind, width) in [
-                ("translation", translations.concat(), "VEC3", 3),
-                ("rotation", rotations.concat(), "VEC4", 4),
-            ] {
-                let values: Vec<f32> = values.iter().map(|v| *v as f32).collect();
-                let output = b.floats(&values, kind, width, None, false);
-                samplers.push(json!({"input": input, "output": output, "interpolation": "LINEAR"}));
-                channels.push(
-                    json!({"sampler": samplers.len() - 1, "target": {"node": 0, "path": path}}),
+                self.channel(
+                    input,
+                    &translations,
+                    ("VEC3", 3),
+                    first_bone + k,
+                    "translation",
                 );
             }
         }
     }
-    let mut animations = Vec::new();
-    if !channels.is_empty() {
-        animations
-            .push(json!({"name": animation_name, "samplers": samplers, "channels": channels}));
+
+    /// The object's pose over the keyframes (node 0).
+    fn animate_object(&mut self, track: &[Transform], input: usize) {
+        let (translations, rotations): (Vec<Vec<f64>>, Vec<Vec<f64>>) =
+            track.iter().map(trs).unzip();
+        for (path, values, kind) in [
+            ("translation", translations.concat(), ("VEC3", 3)),
+            ("rotation", rotations.concat(), ("VEC4", 4)),
+        ] {
+            let values: Vec<f32> = values.iter().map(|v| *v as f32).collect();
+            self.channel(input, &values, kind, 0, path);
+        }
     }
-    while b.bin.len() % 4 != 0 {
-        b.bin.push(0);
+
+    /// The GLB container of the scene, with the animation named `animation_name`.
+    fn finish(mut self, animation_name: &str) -> Vec<u8> {
+        let materials = json!([
+            {"name": "object", "pbrMetallicRoughness": {"baseColorFactor": [0.75, 0.75, 0.78, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.8}},
+            {"name": "hand", "pbrMetallicRoughness": {"baseColorFactor": [0.86, 0.55, 0.42, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.6}}
+        ]);
+        while !self.b.bin.len().is_multiple_of(4) {
+            self.b.bin.push(0);
+        }
+        let mut doc = json!({
+            "asset": {"version": "2.0", "generator": concat!("prehensile ", env!("CARGO_PKG_VERSION"))},
+            "scene": 0,
+            "scenes": [{"nodes": self.scene_nodes}],
+            "nodes": self.nodes,
+            "meshes": self.meshes,
+            "materials": materials,
+            "accessors": self.b.accessors,
+            "bufferViews": self.b.views,
+            "buffers": [{"byteLength": self.b.bin.len()}],
+        });
+        if !self.channels.is_empty() {
+            doc["animations"] = json!([{"name": animation_name, "samplers": self.samplers, "channels": self.channels}]);
+        }
+        if !self.skins.is_empty() {
+            doc["skins"] = json!(self.skins);
+        }
+        glb_container(
+            &serde_json::to_vec(&doc).expect("JSON values serialize"),
+            &self.b.bin,
+        )
     }
-    let mut doc = json!({
-        "asset": {"version": "2.0", "generator": concat!("prehensile ", env!("CARGO_PKG_VERSION"))},
-        "scene": 0,
-        "scenes": [{"nodes": scene_nodes}],
-        "nodes": nodes,
-        "meshes": meshes,
-        "materials": materials,
-        "accessors": b.accessors,
-        "bufferViews": b.views,
-        "buffers": [{"byteLength": b.bin.len()}],
-    });
-    if !animations.is_empty() {
-        doc["animations"] = json!(animations);
-    }
-    if !skins.is_empty() {
-        doc["skins"] = json!(skins);
-    }
-    glb_container(
-        &serde_json::to_vec(&doc).expect("JSON values serialize"),
-        &b.bin,
-    )
 }
 
 /// A skin's inverse bind matrices for `hand`: per bone the inverse of its rest frame in the hand

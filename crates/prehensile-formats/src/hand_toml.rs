@@ -169,7 +169,7 @@ mod tests {
             assert!(e.to_string().contains("via_fraction"), "{e}");
         }
         let e = parse_hand_toml(&with_via("0.5", "[500.0, 0.0]"), "via.toml").unwrap_err();
-        assert!(e.to_string().contains("(via pose)"), "{e}");
+        assert!(e.to_string().contains("its via pose"), "{e}");
         let e = parse_hand_toml(&with_via("0.5", "[5.0]"), "via.toml").unwrap_err();
         assert!(e.to_string().contains("gives 1 angle(s)"), "{e}");
     }

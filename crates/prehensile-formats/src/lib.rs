@@ -3,7 +3,7 @@
 //! Reading and writing for Prehensile: meshes (OBJ, STL ascii and binary, PLY ascii and binary)
 //! and hands (TOML, URDF, MJCF, glTF skins), plus the built-in hands. Builds core types; knows nothing of
 //! physics engines. Every error names the file, the line or element, and the reason.
-#![warn(missing_docs)]
+#![deny(missing_docs)]
 
 pub mod builtin;
 mod bvh;

@@ -145,67 +145,7 @@ pub fn parse_ply(
         })?;
     let header = std::str::from_utf8(&bytes[..header_end])
         .map_err(|_| FormatError::at(source_name, "header", "the header is not text"))?;
-    let mut lines = header.lines().enumerate();
-    if lines.next().map(|(_, l)| l.trim()) != Some("ply") {
-        return Err(FormatError::at(
-            source_name,
-            "line 1",
-            "a PLY file starts with 'ply'",
-        ));
-    }
-    let mut encoding = None;
-    let mut elements: Vec<Element> = Vec::new();
-    for (n, line) in lines {
-        let at = format!("line {}", n + 1);
-        let w: Vec<&str> = line.split_whitespace().collect();
-        match w.as_slice() {
-            ["format", f, _] => {
-                encoding = Some(match *f {
-                    "ascii" => Encoding::Ascii,
-                    "binary_little_endian" => Encoding::Little,
-                    "binary_big_endian" => Encoding::Big,
-                    other => {
-                        return Err(FormatError::at(
-                            source_name,
-                            at,
-                            format!("unknown format '{other}'"),
-                        ))
-                    }
-                })
-            }
-            ["element", name, count] => {
-                let count: usize = count.parse().map_err(|_| {
-                    FormatError::at(source_name, &at, format!("'{count}' is not a count"))
-                })?;
-                elements.push(Element {
-                    name: name.to_string(),
-                    count,
-                    properties: Vec::new(),
-                });
-            }
-            ["property", "list", c, t, name] => {
-                let (Some(c), Some(t)) = (Scalar::parse(c), Scalar::parse(t)) else {
-                    return Err(FormatError::at(source_name, at, "unknown property type"));
-                };
-                let e = elements.last_mut().ok_or_else(|| {
-                    FormatError::at(source_name, &at, "property before any element")
-                })?;
-                e.properties.push(Property::List(name.to_string(), c, t));
-            }
-            ["property", t, name] => {
-                let t = Scalar::parse(t).ok_or_else(|| {
-                    FormatError::at(source_name, &at, format!("unknown property type '{t}'"))
-                })?;
-                let e = elements.last_mut().ok_or_else(|| {
-                    FormatError::at(source_name, &at, "property before any element")
-                })?;
-                e.properties.push(Property::Scalar(name.to_string(), t));
-            }
-            _ => {}
-        }
-    }
-    let encoding =
-        encoding.ok_or_else(|| FormatError::at(source_name, "header", "no 'format' line"))?;
+    let (encoding, elements) = parse_header(header, source_name)?;
     let mut body_start = header_end + "end_header".len();
     while body_start < bytes.len() && bytes[body_start] != b'\n' {
         body_start += 1;
@@ -219,8 +159,7 @@ pub fn parse_ply(
         line: header.lines().count() + 2,
         source: source_name,
     };
-    let mut vertices = Vec::new();
-    let mut triangles = Vec::new();
+    let mut mesh = (Vec::new(), Vec::new());
     for e in &elements {
         // Each element needs at least one byte (binary) or two characters (ascii): bound the
         // allocation by the file size before trusting the header's count.
@@ -234,82 +173,158 @@ pub fn parse_ply(
                 ),
             ));
         }
-        let xyz: Vec<Option<usize>> = ["x", "y", "z"]
-            .iter()
-            .map(|n| {
-                e.properties
-                    .iter()
-                    .position(|p| matches!(p, Property::Scalar(s, _) if s == n))
-            })
-            .collect();
-        if e.name == "vertex" && xyz.iter().any(Option::is_none) {
-            return Err(FormatError::at(
-                source_name,
-                "element 'vertex'",
-                "it has no x, y and z properties",
-            ));
-        }
-        for _ in 0..e.count {
-            let mut p = [0.0; 3];
-            let mut face = Vec::new();
-            for (k, prop) in e.properties.iter().enumerate() {
-                match prop {
-                    Property::Scalar(_, t) => {
-                        let v = body.read(*t)?;
-                        if let Some(axis) = xyz.iter().position(|&i| i == Some(k)) {
-                            p[axis] = v;
-                        }
-                    }
-                    Property::List(name, c, t) => {
-                        let len = body.read(*c)?;
-                        if !(0.0..=1024.0).contains(&len) || len.fract() != 0.0 {
-                            return Err(
-                                body.err(&format!("a list of {len} entries is not plausible"))
-                            );
-                        }
-                        let keep = e.name == "face"
-                            && (name == "vertex_indices" || name == "vertex_index");
-                        for _ in 0..len as usize {
-                            let v = body.read(*t)?;
-                            if keep {
-                                face.push(v);
-                            }
-                        }
-                    }
-                }
-            }
-            if e.name == "vertex" {
-                vertices.push(Point3::from(p));
-            } else if e.name == "face" {
-                if face.len() < 3 {
-                    return Err(body.err(&format!(
-                        "face {} has fewer than 3 vertices",
-                        triangles.len()
-                    )));
-                }
-                let idx: Vec<usize> = face
-                    .iter()
-                    .map(|&v| {
-                        if !(v >= 0.0 && v < vertices.len() as f64 && v.fract() == 0.0) {
-                            Err(body.err(&format!(
-                                "face refers to vertex {v}, but there are {} vertices",
-                                vertices.len()
-                            )))
-                        } else {
-                            Ok(v as usize)
-                        }
-                    })
-                    .collect::<Result<_, _>>()?;
-                for k in 1..idx.len() - 1 {
-                    triangles.push([idx[0], idx[k], idx[k + 1]]);
-                }
-            }
-        }
+        read_element(e, &mut body, &mut mesh)?;
     }
-    if triangles.is_empty() {
+    if mesh.1.is_empty() {
         return Err(FormatError::new(source_name, "the PLY has no faces"));
     }
-    Ok((vertices, triangles))
+    Ok(mesh)
+}
+
+/// The header's encoding and elements (the text before `end_header`).
+fn parse_header(header: &str, source_name: &str) -> Result<(Encoding, Vec<Element>), FormatError> {
+    let mut lines = header.lines().enumerate();
+    if lines.next().map(|(_, l)| l.trim()) != Some("ply") {
+        return Err(FormatError::at(
+            source_name,
+            "line 1",
+            "a PLY file starts with 'ply'",
+        ));
+    }
+    let mut encoding = None;
+    let mut elements: Vec<Element> = Vec::new();
+    for (n, line) in lines {
+        let err = |reason: String| FormatError::at(source_name, format!("line {}", n + 1), reason);
+        let w: Vec<&str> = line.split_whitespace().collect();
+        let property = |elements: &mut Vec<Element>, p: Property| {
+            let e = elements
+                .last_mut()
+                .ok_or_else(|| err("property before any element".into()))?;
+            e.properties.push(p);
+            Ok::<_, FormatError>(())
+        };
+        match w.as_slice() {
+            ["format", f, _] => {
+                encoding = Some(match *f {
+                    "ascii" => Encoding::Ascii,
+                    "binary_little_endian" => Encoding::Little,
+                    "binary_big_endian" => Encoding::Big,
+                    other => return Err(err(format!("unknown format '{other}'"))),
+                })
+            }
+            ["element", name, count] => elements.push(Element {
+                name: name.to_string(),
+                count: count
+                    .parse()
+                    .map_err(|_| err(format!("'{count}' is not a count")))?,
+                properties: Vec::new(),
+            }),
+            ["property", "list", c, t, name] => {
+                let (Some(c), Some(t)) = (Scalar::parse(c), Scalar::parse(t)) else {
+                    return Err(err("unknown property type".into()));
+                };
+                property(&mut elements, Property::List(name.to_string(), c, t))?;
+            }
+            ["property", t, name] => {
+                let t =
+                    Scalar::parse(t).ok_or_else(|| err(format!("unknown property type '{t}'")))?;
+                property(&mut elements, Property::Scalar(name.to_string(), t))?;
+            }
+            _ => {}
+        }
+    }
+    let encoding =
+        encoding.ok_or_else(|| FormatError::at(source_name, "header", "no 'format' line"))?;
+    Ok((encoding, elements))
+}
+
+/// Reads every instance of element `e`, adding vertices and faces (fanned) to `mesh`; other
+/// elements are read past.
+fn read_element(
+    e: &Element,
+    body: &mut Body,
+    (vertices, triangles): &mut (Vec<Point3>, Vec<[usize; 3]>),
+) -> Result<(), FormatError> {
+    let xyz: Vec<Option<usize>> = ["x", "y", "z"]
+        .iter()
+        .map(|n| {
+            e.properties
+                .iter()
+                .position(|p| matches!(p, Property::Scalar(s, _) if s == n))
+        })
+        .collect();
+    if e.name == "vertex" && xyz.iter().any(Option::is_none) {
+        return Err(FormatError::at(
+            body.source,
+            "element 'vertex'",
+            "it has no x, y and z properties",
+        ));
+    }
+    for _ in 0..e.count {
+        let (p, face) = read_instance(e, body, &xyz)?;
+        if e.name == "vertex" {
+            vertices.push(Point3::from(p));
+        } else if e.name == "face" {
+            if face.len() < 3 {
+                return Err(body.err(&format!(
+                    "face {} has fewer than 3 vertices",
+                    triangles.len()
+                )));
+            }
+            let idx: Vec<usize> = face
+                .iter()
+                .map(|&v| {
+                    if !(v >= 0.0 && v < vertices.len() as f64 && v.fract() == 0.0) {
+                        Err(body.err(&format!(
+                            "face refers to vertex {v}, but there are {} vertices",
+                            vertices.len()
+                        )))
+                    } else {
+                        Ok(v as usize)
+                    }
+                })
+                .collect::<Result<_, _>>()?;
+            for k in 1..idx.len() - 1 {
+                triangles.push([idx[0], idx[k], idx[k + 1]]);
+            }
+        }
+    }
+    Ok(())
+}
+
+/// One instance of element `e`: its x, y, z (where `xyz` says they are) and a face's vertex
+/// indices.
+fn read_instance(
+    e: &Element,
+    body: &mut Body,
+    xyz: &[Option<usize>],
+) -> Result<([f64; 3], Vec<f64>), FormatError> {
+    let mut p = [0.0; 3];
+    let mut face = Vec::new();
+    for (k, prop) in e.properties.iter().enumerate() {
+        match prop {
+            Property::Scalar(_, t) => {
+                let v = body.read(*t)?;
+                if let Some(axis) = xyz.iter().position(|&i| i == Some(k)) {
+                    p[axis] = v;
+                }
+            }
+            Property::List(name, c, t) => {
+                let len = body.read(*c)?;
+                if !(0.0..=1024.0).contains(&len) || len.fract() != 0.0 {
+                    return Err(body.err(&format!("a list of {len} entries is not plausible")));
+                }
+                let keep = e.name == "face" && (name == "vertex_indices" || name == "vertex_index");
+                for _ in 0..len as usize {
+                    let v = body.read(*t)?;
+                    if keep {
+                        face.push(v);
+                    }
+                }
+            }
+        }
+    }
+    Ok((p, face))
 }
 
 #[cfg(test)]

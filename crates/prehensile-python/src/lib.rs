@@ -4,6 +4,7 @@
 //!
 //! Results cross into Python as numpy arrays (poses, angles, contacts) and, for nested records,
 //! through their JSON (the same schema as `prehensile grasp --out`), decoded by Python's `json`.
+#![deny(missing_docs)]
 
 use std::sync::Arc;
 use std::time::Duration;

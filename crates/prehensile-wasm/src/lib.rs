@@ -6,6 +6,7 @@
 //!
 //! The same library and the same seed give the same result as the native build (tested against
 //! the CLI from Node in CI).
+#![deny(missing_docs)]
 
 use std::sync::Arc;
 use std::time::Duration;

@@ -48,6 +48,9 @@ pub struct ConvexCapsules {
     pub corner_gap: f64,
 }
 
+/// A capsule `(a, b, radius)`.
+type CapsuleSpec = (Point3, Point3, f64);
+
 /// Capsules inside the convex hull of `points` (a collision mesh's vertices), with adjacent
 /// lines close enough that a flat face between them is covered within `tolerance` metres.
 /// Fails when the points are too few, not finite, or flat (a plane encloses nothing).
@@ -55,75 +58,178 @@ pub fn convex_capsules(points: &[Point3], tolerance: f64) -> Result<ConvexCapsul
     let coordinates: Vec<[f64; 3]> = points.iter().map(|p| [p.x, p.y, p.z]).collect();
     let mut hull = ConvexHull::<3>::new();
     hull.compute(&coordinates)?;
-    let planes: Vec<(Vec3, f64)> = hull
-        .facets()
+    let solid = Solid::new(&hull, points);
+    // The fullest capsule along the long axis through the middle sets the radius.
+    let radius = solid
+        .fullest(&solid.centre, f64::INFINITY)
+        .map_or(0.0, |(r, _, _)| r);
+    let (mut capsules, lines) = if radius > 0.0 {
+        solid.rows(radius, tolerance)
+    } else {
+        (Vec::new(), Vec::new())
+    };
+    // Where the hull reaches past the capsules, sampled at its corners and faces' centres.
+    let samples: Vec<Point3> = solid
+        .corners
         .iter()
-        .map(|f| (Vec3::from(f.normal), f.offset))
+        .copied()
+        .chain(hull.facets().iter().map(|f| {
+            Point3::from(
+                f.vertices
+                    .iter()
+                    .map(|&i| points[i as usize].coords)
+                    .sum::<Vec3>()
+                    / 3.0,
+            )
+        }))
         .collect();
-    let mut corner_indices: Vec<u32> = hull.facets().iter().flat_map(|f| f.vertices).collect();
-    corner_indices.sort_unstable();
-    corner_indices.dedup();
-    let corners: Vec<Point3> = corner_indices.iter().map(|&i| points[i as usize]).collect();
-    let (centre, [long, across, thin]) = solid_axes(&hull, points);
-    let span = |axis: &Vec3| {
-        corners
+    solid.fill(&lines, &samples, radius, tolerance, &mut capsules);
+    drop_contained(&mut capsules);
+    let gap_at = |p: &Point3| nearest_gap(p, &capsules);
+    let corner_gap = solid.corners.iter().map(gap_at).fold(0.0, f64::max);
+    let face_gap = samples[solid.corners.len()..]
+        .iter()
+        .map(gap_at)
+        .fold(0.0, f64::max);
+    Ok(ConvexCapsules {
+        capsules,
+        face_gap,
+        corner_gap,
+    })
+}
+
+/// How far `p` lies outside capsule `(a, b, r)` (negative inside).
+fn gap(p: &Point3, (a, b, r): &CapsuleSpec) -> f64 {
+    distance_to_segment(p, a, b) - r
+}
+
+/// How far `p` lies outside the nearest of `capsules`, 0 inside one.
+fn nearest_gap(p: &Point3, capsules: &[CapsuleSpec]) -> f64 {
+    capsules
+        .iter()
+        .map(|c| gap(p, c))
+        .fold(f64::INFINITY, f64::min)
+        .max(0.0)
+}
+
+/// The hull as a solid to fill: its face planes, its corners, its centroid and principal axes,
+/// and its extent along the longest.
+struct Solid {
+    /// Every face's outward normal and offset.
+    planes: Vec<(Vec3, f64)>,
+    /// The hull's vertices.
+    corners: Vec<Point3>,
+    /// The solid's centroid.
+    centre: Point3,
+    /// Its principal axes, longest spread first.
+    long: Vec3,
+    across: Vec3,
+    thin: Vec3,
+    /// Its extent along `long` from `centre`.
+    along: (f64, f64),
+}
+
+impl Solid {
+    fn new(hull: &ConvexHull<3>, points: &[Point3]) -> Self {
+        let planes = hull
+            .facets()
+            .iter()
+            .map(|f| (Vec3::from(f.normal), f.offset))
+            .collect();
+        let mut corner_indices: Vec<u32> = hull.facets().iter().flat_map(|f| f.vertices).collect();
+        corner_indices.sort_unstable();
+        corner_indices.dedup();
+        let corners = corner_indices.iter().map(|&i| points[i as usize]).collect();
+        let (centre, [long, across, thin]) = solid_axes(hull, points);
+        let mut solid = Self {
+            planes,
+            corners,
+            centre,
+            long,
+            across,
+            thin,
+            along: (0.0, 0.0),
+        };
+        solid.along = solid.span(&long);
+        solid
+    }
+
+    /// The extent of the corners along `axis` from the centre.
+    fn span(&self, axis: &Vec3) -> (f64, f64) {
+        self.corners
             .iter()
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-                let s = (p - centre).dot(axis);
+                let s = (p - self.centre).dot(axis);
                 (lo.min(s), hi.max(s))
             })
-    };
-    let clearance = |p: &Point3| {
-        planes
+    }
+
+    /// How far inside every face `p` lies.
+    fn clearance(&self, p: &Point3) -> f64 {
+        self.planes
             .iter()
             .map(|(n, d)| d - n.dot(&p.coords))
             .fold(f64::INFINITY, f64::min)
-    };
-    let along = span(&long);
-    let thickest = |origin: &Point3| thickest_on_line(&clearance, origin, &long, along).1;
-    // The capsule on a line through `origin`, at most `cap` thick: of the radii up to the
-    // thickest that fits (a hair thinner, so that the faces it touches do not pinch its line to
-    // a point in rounding), the one whose capsule has the most volume — a tapered part gets a
-    // capsule along it rather than a ball at its thickest.
-    let fullest = |origin: &Point3, cap: f64| {
-        let top = (thickest(origin) * (1.0 - 1e-7)).min(cap);
+    }
+
+    /// The thickest capsule's radius on the long line through `origin`.
+    fn thickest(&self, origin: &Point3) -> f64 {
+        thickest_on_line(
+            &|p: &Point3| self.clearance(p),
+            origin,
+            &self.long,
+            self.along,
+        )
+        .1
+    }
+
+    /// The capsule on the long line through `origin`, at most `cap` thick: of the radii up to
+    /// the thickest that fits (a hair thinner, so that the faces it touches do not pinch its
+    /// line to a point in rounding), the one whose capsule has the most volume — a tapered part
+    /// gets a capsule along it rather than a ball at its thickest. `(radius, s0, s1)`.
+    fn fullest(&self, origin: &Point3, cap: f64) -> Option<(f64, f64, f64)> {
+        let top = (self.thickest(origin) * (1.0 - 1e-7)).min(cap);
         (1..=RADIUS_SAMPLES)
             .filter_map(|k| {
                 let r = top * k as f64 / RADIUS_SAMPLES as f64;
-                let (s0, s1) = clip_line(&planes, origin, &long, r)?;
+                let (s0, s1) = clip_line(&self.planes, origin, &self.long, r)?;
                 let volume = r * r * (s1 - s0) + 4.0 / 3.0 * r * r * r;
                 Some((volume, r, s0, s1))
             })
             .max_by(|a, b| a.0.total_cmp(&b.0))
             .map(|(_, r, s0, s1)| (r, s0, s1))
-    };
-    // The fullest capsule along the long axis through the middle sets the radius.
-    let radius = fullest(&centre, f64::INFINITY).map_or(0.0, |(r, _, _)| r);
-    let mut capsules = Vec::new();
-    let mut lines = Vec::new();
-    if radius > 0.0 {
+    }
+
+    /// Across `axis`, the offsets between which a line still holds the whole `radius` (an
+    /// interval: the thickest capsule on a line is concave in its offset); the outermost rows
+    /// go there, as a box's outer rows go to its faces.
+    fn reach(&self, axis: &Vec3, radius: f64) -> (f64, f64) {
+        let (lo, hi) = self.span(axis);
+        let edge = |end: f64| {
+            let (mut inner, mut outer) = (0.0, end);
+            for _ in 0..32 {
+                let mid = 0.5 * (inner + outer);
+                if self.thickest(&(self.centre + axis * mid)) >= radius {
+                    inner = mid;
+                } else {
+                    outer = mid;
+                }
+            }
+            inner
+        };
+        (edge(lo), edge(hi))
+    }
+
+    /// Rows of capsules of `radius` along the long axis, their lines spaced so that a flat face
+    /// between two dips at most `tolerance` into the gap, at most [`MAX_LINES`] of them; returns
+    /// the capsules and every line's origin.
+    fn rows(&self, radius: f64, tolerance: f64) -> (Vec<CapsuleSpec>, Vec<Point3>) {
         let dip = tolerance.clamp(0.0, radius);
         let mut spacing = 2.0 * (radius * radius - (radius - dip) * (radius - dip)).sqrt();
-        // Across each short axis, the offsets between which a line still holds the whole
-        // radius (an interval: the thickest capsule on a line is concave in its offset); the
-        // outermost rows go there, as a box's outer rows go to its faces.
-        let reach = |axis: &Vec3| {
-            let (lo, hi) = span(axis);
-            let edge = |end: f64| {
-                let (mut inner, mut outer) = (0.0, end);
-                for _ in 0..32 {
-                    let mid = 0.5 * (inner + outer);
-                    if thickest(&(centre + axis * mid)) >= radius {
-                        inner = mid;
-                    } else {
-                        outer = mid;
-                    }
-                }
-                inner
-            };
-            (edge(lo), edge(hi))
-        };
-        let (across_reach, thin_reach) = (reach(&across), reach(&thin));
+        let (across_reach, thin_reach) = (
+            self.reach(&self.across, radius),
+            self.reach(&self.thin, radius),
+        );
         // A reach far shorter than the spacing (rounding around a single line) is one row.
         let rows =
             |(lo, hi): (f64, f64), spacing: f64| ((hi - lo) / spacing - 1e-3).ceil().max(0.0) + 1.0;
@@ -148,101 +254,70 @@ pub fn convex_capsules(points: &[Point3], tolerance: f64) -> Result<ConvexCapsul
                 }
             })
         };
+        let (mut capsules, mut lines) = (Vec::new(), Vec::new());
         for u in offsets(across_reach) {
             for v in offsets(thin_reach) {
-                let origin = centre + across * u + thin * v;
+                let origin = self.centre + self.across * u + self.thin * v;
                 lines.push(origin);
-                match fullest(&origin, radius) {
+                match self.fullest(&origin, radius) {
                     Some((r, s0, s1)) if r >= THINNEST_SHARE * radius => {
-                        capsules.push((origin + long * s0, origin + long * s1, r))
+                        capsules.push((origin + self.long * s0, origin + self.long * s1, r))
                     }
                     _ => {}
                 }
             }
         }
+        (capsules, lines)
     }
-    // Where the hull reaches past the capsules, sampled at its corners and faces' centres.
-    let samples: Vec<Point3> = corners
-        .iter()
-        .copied()
-        .chain(hull.facets().iter().map(|f| {
-            Point3::from(
-                f.vertices
-                    .iter()
-                    .map(|&i| points[i as usize].coords)
-                    .sum::<Vec3>()
-                    / 3.0,
-            )
-        }))
-        .collect();
-    let gap = |p: &Point3, (a, b, r): &(Point3, Point3, f64)| distance_to_segment(p, a, b) - r;
-    let mut gaps: Vec<f64> = samples
-        .iter()
-        .map(|p| {
-            capsules
-                .iter()
-                .map(|c| gap(p, c))
-                .fold(f64::INFINITY, f64::min)
-                .max(0.0)
-        })
-        .collect();
-    // A tapered part's ends and a rounded part's rim lie past the rows: fill them with thinner
-    // capsules on the same lines, which reach further along them, each chosen for how much it
-    // brings the samples nearer, while that is worth a capsule.
-    let planes = &planes;
-    let candidates: Vec<(Point3, Point3, f64)> = lines
-        .iter()
-        .flat_map(|origin| {
-            let top = (thickest(origin) * (1.0 - 1e-7)).min(radius);
-            FILL_LEVELS.iter().filter_map(move |level| {
-                let r = top * level;
-                let (s0, s1) = clip_line(planes, origin, &long, r)?;
-                Some((origin + long * s0, origin + long * s1, r))
+
+    /// A tapered part's ends and a rounded part's rim lie past the rows: fills them with thinner
+    /// capsules on the same `lines`, which reach further along them, each chosen for how much it
+    /// brings the `samples` nearer, while that is worth a capsule.
+    fn fill(
+        &self,
+        lines: &[Point3],
+        samples: &[Point3],
+        radius: f64,
+        tolerance: f64,
+        capsules: &mut Vec<CapsuleSpec>,
+    ) {
+        let mut gaps: Vec<f64> = samples.iter().map(|p| nearest_gap(p, capsules)).collect();
+        let candidates: Vec<CapsuleSpec> = lines
+            .iter()
+            .flat_map(|origin| {
+                let top = (self.thickest(origin) * (1.0 - 1e-7)).min(radius);
+                FILL_LEVELS.iter().filter_map(move |level| {
+                    let r = top * level;
+                    let (s0, s1) = clip_line(&self.planes, origin, &self.long, r)?;
+                    Some((origin + self.long * s0, origin + self.long * s1, r))
+                })
             })
-        })
-        .filter(|c| c.2 > 0.0)
-        .collect();
-    for _ in 0..MAX_FILL_CAPSULES {
-        let gain = |c: &(Point3, Point3, f64)| -> f64 {
-            samples
+            .filter(|c| c.2 > 0.0)
+            .collect();
+        for _ in 0..MAX_FILL_CAPSULES {
+            let gain = |c: &CapsuleSpec| -> f64 {
+                samples
+                    .iter()
+                    .zip(&gaps)
+                    .map(|(p, g)| (g - gap(p, c).max(0.0)).max(0.0))
+                    .sum()
+            };
+            let Some((best, gained)) = candidates
                 .iter()
-                .zip(&gaps)
-                .map(|(p, g)| (g - gap(p, c).max(0.0)).max(0.0))
-                .sum()
-        };
-        let Some((best, gained)) = candidates
-            .iter()
-            .map(|c| (c, gain(c)))
-            .max_by(|a, b| a.1.total_cmp(&b.1))
-        else {
-            break;
-        };
-        if gained < FILL_GAIN * tolerance * samples.len() as f64 {
-            break;
+                .map(|c| (c, gain(c)))
+                .max_by(|a, b| a.1.total_cmp(&b.1))
+            else {
+                break;
+            };
+            if gained < FILL_GAIN * tolerance * samples.len() as f64 {
+                break;
+            }
+            for (p, g) in samples.iter().zip(gaps.iter_mut()) {
+                *g = g.min(gap(p, best).max(0.0));
+            }
+            capsules.push(*best);
         }
-        for (p, g) in samples.iter().zip(gaps.iter_mut()) {
-            *g = g.min(gap(p, best).max(0.0));
-        }
-        capsules.push(*best);
     }
-    drop_contained(&mut capsules);
-    let gap_at = |p: &Point3| {
-        capsules
-            .iter()
-            .map(|c| gap(p, c))
-            .fold(f64::INFINITY, f64::min)
-            .max(0.0)
-    };
-    let corner_gap = corners.iter().map(gap_at).fold(0.0, f64::max);
-    let face_gap = samples[corners.len()..]
-        .iter()
-        .map(gap_at)
-        .fold(0.0, f64::max);
-    Ok(ConvexCapsules {
-        capsules,
-        face_gap,
-        corner_gap,
-    })
 }
 
 /// The centroid and principal axes of the solid hull, longest spread first: from its volume,

@@ -3,7 +3,9 @@
 
 use crate::geometry::slerp_path::SlerpPath;
 use crate::hand::movement::{GraspMovement, Via};
-use crate::hand::{HandError, HandModel, MovementDescription};
+use std::collections::BTreeMap;
+
+use crate::hand::{HandError, HandModel, MovementDescription, MovementProblem};
 use crate::math::{Point3, Rotation, Transform};
 
 impl GraspMovement {
@@ -18,18 +20,17 @@ impl GraspMovement {
         angles: &[Option<f64>],
     ) -> Result<Self, HandError> {
         if !(fraction > 0.0 && fraction < 1.0) {
-            return Err(HandError::Invalid(format!(
-                "movement '{}': via_fraction = {fraction:?} is not strictly between 0 and 1",
-                self.name
-            )));
+            return Err(movement_error(
+                &self.name,
+                MovementProblem::ViaFraction(fraction),
+            ));
         }
         if angles.len() != hand.dof_count() {
-            return Err(HandError::Invalid(format!(
-                "movement '{}': the via pose has {} angles, the hand {} degrees of freedom",
-                self.name,
-                angles.len(),
-                hand.dof_count()
-            )));
+            let problem = MovementProblem::ViaLength {
+                got: angles.len(),
+                dofs: hand.dof_count(),
+            };
+            return Err(movement_error(&self.name, problem));
         }
         let mut q: Vec<f64> = angles
             .iter()
@@ -61,90 +62,22 @@ impl GraspMovement {
 
     /// Builds a movement from its description, checking names, counts and limits.
     pub fn from_description(hand: &HandModel, d: &MovementDescription) -> Result<Self, HandError> {
-        // The angles a pose names, by degree of freedom; `None` where it names none.
-        let named = |which: &str,
-                     pose: &std::collections::BTreeMap<String, Vec<f64>>|
-         -> Result<Vec<Option<f64>>, HandError> {
-            let mut out = vec![None; hand.dof_count()];
-            for (bone_name, values) in pose {
-                let i = hand.bone_index(bone_name).ok_or_else(|| {
-                    HandError::Invalid(format!(
-                        "movement '{}' ({which} pose) names bone '{bone_name}', which does not exist",
-                        d.name
-                    ))
-                })?;
-                let bone = &hand.bones()[i];
-                if values.len() != bone.joint.dofs() {
-                    return Err(HandError::Invalid(format!(
-                        "movement '{}' ({which} pose) gives {} angle(s) for bone '{bone_name}', whose joint has {}",
-                        d.name,
-                        values.len(),
-                        bone.joint.dofs()
-                    )));
-                }
-                for (k, v) in values.iter().enumerate() {
-                    let [lo, hi] = bone.joint.limits(k);
-                    let rad = v.to_radians();
-                    if !rad.is_finite() || rad < lo - 1e-9 || rad > hi + 1e-9 {
-                        return Err(HandError::Invalid(format!(
-                            "movement '{}' ({which} pose): bone '{bone_name}' angle {k} = {v:?}° is outside its limits [{:.1}°, {:.1}°]",
-                            d.name,
-                            lo.to_degrees(),
-                            hi.to_degrees()
-                        )));
-                    }
-                    out[bone.first_dof + k] = Some(rad);
-                }
-            }
-            Ok(out)
-        };
-        // A pose's unnamed degrees of freedom are at zero (then limits and couplings applied).
-        let angles = |which: &str, pose| -> Result<Vec<f64>, HandError> {
-            let mut q: Vec<f64> = named(which, pose)?
-                .into_iter()
-                .map(|a| a.unwrap_or(0.0))
-                .collect();
-            hand.constrain(&mut q);
-            Ok(q)
-        };
-        let start_angles = angles("start", &d.start)?;
-        let end_angles = angles("end", &d.end)?;
-        let finger_ids = |names: &[String]| -> Result<Vec<usize>, HandError> {
-            names
-                .iter()
-                .map(|f| {
-                    hand.finger_index(f).ok_or_else(|| {
-                        HandError::Invalid(format!(
-                            "movement '{}' names finger '{f}'; the hand's fingers are {:?}",
-                            d.name,
-                            hand.fingers().iter().map(|f| &f.name).collect::<Vec<_>>()
-                        ))
-                    })
-                })
-                .collect()
-        };
-        let between = finger_ids(&d.grasp_center_between)?;
-        let contact_fingers = finger_ids(&d.contact_fingers)?;
+        let error = |problem| movement_error(&d.name, problem);
+        let start_angles = pose_angles(hand, "start", &d.start).map_err(error)?;
+        let end_angles = pose_angles(hand, "end", &d.end).map_err(error)?;
+        let between = finger_indices(hand, &d.grasp_center_between).map_err(error)?;
+        let contact_fingers = finger_indices(hand, &d.contact_fingers).map_err(error)?;
         let mut movement =
             Self::from_angles(hand, &d.name, start_angles, end_angles, Point3::origin());
         if !d.via.is_empty() {
-            movement = movement.through(hand, d.via_fraction, &named("via", &d.via)?)?;
+            let via = named_angles(hand, "via", &d.via).map_err(error)?;
+            movement = movement.through(hand, d.via_fraction, &via)?;
         }
         movement.contact_fingers = contact_fingers;
         movement.grasp_center = match (d.grasp_center, between.is_empty()) {
             (Some(c), true) if c.iter().all(|x| x.is_finite()) => Point3::from(c),
-            (Some(_), true) => {
-                return Err(HandError::Invalid(format!(
-                    "movement '{}': grasp_center is not finite",
-                    d.name
-                )))
-            }
-            (Some(_), false) => {
-                return Err(HandError::Invalid(format!(
-                    "movement '{}': give either grasp_center or grasp_center_between, not both",
-                    d.name
-                )))
-            }
+            (Some(_), true) => return Err(error(MovementProblem::GraspCenterNotFinite)),
+            (Some(_), false) => return Err(error(MovementProblem::GraspCenterTwice)),
             (None, false) => movement.tip_centroid(hand, &between, 1.0),
             (None, true) => {
                 let all: Vec<usize> = (0..hand.fingers().len()).collect();
@@ -252,4 +185,84 @@ impl GraspMovement {
         });
         Point3::from(sum / fingers.len().max(1) as f64)
     }
+}
+
+/// A [`HandError`] about movement `name`.
+fn movement_error(name: &str, problem: MovementProblem) -> HandError {
+    HandError::Movement {
+        movement: name.to_string(),
+        problem,
+    }
+}
+
+/// The angles a pose of a hand file names, radians, by degree of freedom (`None` where it names
+/// none), each checked against its joint's limits.
+fn named_angles(
+    hand: &HandModel,
+    pose: &'static str,
+    angles: &BTreeMap<String, Vec<f64>>,
+) -> Result<Vec<Option<f64>>, MovementProblem> {
+    let mut out = vec![None; hand.dof_count()];
+    for (bone_name, values) in angles {
+        let i = hand
+            .bone_index(bone_name)
+            .ok_or_else(|| MovementProblem::UnknownBone {
+                pose,
+                bone: bone_name.clone(),
+            })?;
+        let bone = &hand.bones()[i];
+        if values.len() != bone.joint.dofs() {
+            return Err(MovementProblem::AngleCount {
+                pose,
+                bone: bone_name.clone(),
+                got: values.len(),
+                joint: bone.joint.dofs(),
+            });
+        }
+        for (k, v) in values.iter().enumerate() {
+            let [lo, hi] = bone.joint.limits(k);
+            let rad = v.to_radians();
+            if !rad.is_finite() || rad < lo - 1e-9 || rad > hi + 1e-9 {
+                return Err(MovementProblem::OutsideLimits {
+                    pose,
+                    bone: bone_name.clone(),
+                    index: k,
+                    degrees: *v,
+                    low: lo.to_degrees(),
+                    high: hi.to_degrees(),
+                });
+            }
+            out[bone.first_dof + k] = Some(rad);
+        }
+    }
+    Ok(out)
+}
+
+/// A whole pose of a hand file: the degrees of freedom it does not name at zero, then limits and
+/// couplings applied.
+fn pose_angles(
+    hand: &HandModel,
+    pose: &'static str,
+    angles: &BTreeMap<String, Vec<f64>>,
+) -> Result<Vec<f64>, MovementProblem> {
+    let mut q: Vec<f64> = named_angles(hand, pose, angles)?
+        .into_iter()
+        .map(|a| a.unwrap_or(0.0))
+        .collect();
+    hand.constrain(&mut q);
+    Ok(q)
+}
+
+/// The indices of fingers named in a hand file.
+fn finger_indices(hand: &HandModel, names: &[String]) -> Result<Vec<usize>, MovementProblem> {
+    names
+        .iter()
+        .map(|f| {
+            hand.finger_index(f)
+                .ok_or_else(|| MovementProblem::UnknownFinger {
+                    finger: f.clone(),
+                    fingers: hand.fingers().iter().map(|f| f.name.clone()).collect(),
+                })
+        })
+        .collect()
 }

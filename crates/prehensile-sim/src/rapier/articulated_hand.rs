@@ -95,136 +95,155 @@ impl ArticulatedHand {
             &rotations,
             &mut world_frames,
         );
-
-        let mut bones = Vec::with_capacity(hand.bones().len());
-        let mut dofs = Vec::with_capacity(hand.dof_count());
-        let mut colliders = Vec::new();
-        let mut collider_bones = Vec::new();
-        let mut intermediates = Vec::new();
-        let mut masses = Vec::new();
-        for (k, bone) in hand.bones().iter().enumerate() {
-            let builder = match bone.parent {
-                None => RigidBodyBuilder::kinematic_position_based(),
-                Some(_) => RigidBodyBuilder::dynamic(),
-            };
-            let mut builder = builder
-                .pose(convert::pose(&world_frames[k]))
-                .can_sleep(false);
-            if let Some(inertial) = &bone.inertial {
-                builder = builder.additional_mass_properties(mass_properties(
-                    inertial.mass,
-                    convert::point(&inertial.center_of_mass),
-                    &inertial.inertia,
-                ));
-            }
-            let body = world.bodies.insert(builder);
-            if let (Some(inertial), Some(_)) = (bone.inertial, bone.parent) {
-                masses.push((body, inertial));
-            }
-            for capsule in hand.bone_capsules(k) {
-                let collider = ColliderBuilder::capsule_from_endpoints(
-                    convert::point(&capsule.a),
-                    convert::point(&capsule.b),
-                    capsule.radius,
-                )
-                .density(0.0)
-                .friction(friction)
-                .collision_groups(hand_groups(group));
-                colliders.push(world.colliders.insert_with_parent(
-                    collider,
-                    body,
-                    &mut world.bodies,
-                ));
-                collider_bones.push(k);
-            }
-            bones.push(body);
-            let Some(parent) = bone.parent else { continue };
-            let parent_body = bones[parent];
-            let rest = convert::pose(&bone.rest);
-            match &bone.joint {
-                Joint::Fixed => {
-                    let joint = GenericJointBuilder::new(JointAxesMask::LOCKED_FIXED_AXES)
-                        .local_frame1(rest)
-                        .contacts_enabled(false);
-                    world.impulse_joints.insert(parent_body, body, joint, true);
-                }
-                Joint::Hinge(axis) => {
-                    let axis = convert::vector(&axis.axis);
-                    dofs.push(revolute(
-                        world,
-                        parent_body,
-                        rest,
-                        body,
-                        Pose::IDENTITY,
-                        axis,
-                    ));
-                }
-                Joint::TwoAxis { flexion, abduction } => {
-                    let outer = convert::vector(&abduction.axis);
-                    let inner = convert::vector(&flexion.axis);
-                    let b = q[bone.first_dof + 1];
-                    let frame = world_frames[parent]
-                        * bone.rest
-                        * Rotation::from_axis_angle(&abduction.axis, b);
-                    let mass = bone.inertial.map_or(1e-4, |i| i.mass) * INTERMEDIATE_MASS_FRACTION;
-                    // A small sphere's inertia, about the joint centre.
-                    let inertia = 0.4 * mass * 0.005f64.powi(2);
-                    let middle = world.bodies.insert(
-                        RigidBodyBuilder::dynamic()
-                            .pose(convert::pose(&frame))
-                            .can_sleep(false)
-                            .additional_mass_properties(MassProperties::new(
-                                Vector::ZERO,
-                                mass,
-                                Vector::splat(inertia),
-                            )),
-                    );
-                    intermediates.push(middle);
-                    masses.push((
-                        middle,
-                        Inertial {
-                            mass,
-                            center_of_mass: Point3::origin(),
-                            inertia: nalgebra::Matrix3::from_diagonal_element(inertia),
-                        },
-                    ));
-                    // Degree of freedom 0 is flexion, 1 abduction.
-                    let flex = revolute(world, middle, Pose::IDENTITY, body, Pose::IDENTITY, inner);
-                    let abd = revolute(world, parent_body, rest, middle, Pose::IDENTITY, outer);
-                    dofs.push(flex);
-                    dofs.push(abd);
-                }
-                Joint::Ball { .. } => {
-                    let joint =
-                        world
-                            .impulse_joints
-                            .insert(body, parent_body, spherical(rest), true);
-                    for (motor, axis_in_child) in [
-                        (JointAxis::AngX, Vector::X),
-                        (JointAxis::AngY, Vector::Y),
-                        (JointAxis::AngZ, Vector::Z),
-                    ] {
-                        dofs.push(DofJoint {
-                            joint,
-                            parent: parent_body,
-                            child: body,
-                            axis_in_child,
-                            motor,
-                            ball_rest: Some(rest.rotation),
-                        });
-                    }
-                }
-            }
-        }
-        Self {
+        let mut built = Self {
             hand: hand.clone(),
-            bones,
-            intermediates,
-            masses,
-            dofs,
-            colliders,
-            collider_bones,
+            bones: Vec::with_capacity(hand.bones().len()),
+            intermediates: Vec::new(),
+            masses: Vec::new(),
+            dofs: Vec::with_capacity(hand.dof_count()),
+            colliders: Vec::new(),
+            collider_bones: Vec::new(),
+        };
+        for k in 0..hand.bones().len() {
+            built.add_bone(world, k, &world_frames[k], (group, friction));
+            if hand.bones()[k].parent.is_some() {
+                built.add_joint(world, k, q, &world_frames);
+            }
         }
+        built
+    }
+
+    /// Bone `k`'s body at `frame` (the root's kinematic), with its mass and its capsules'
+    /// colliders in collision group `group` with skin friction `friction`.
+    fn add_bone(
+        &mut self,
+        world: &mut PhysicsWorld,
+        k: usize,
+        frame: &Transform,
+        (group, friction): (Group, f64),
+    ) {
+        let bone = &self.hand.bones()[k];
+        let builder = match bone.parent {
+            None => RigidBodyBuilder::kinematic_position_based(),
+            Some(_) => RigidBodyBuilder::dynamic(),
+        };
+        let mut builder = builder.pose(convert::pose(frame)).can_sleep(false);
+        if let Some(inertial) = &bone.inertial {
+            builder = builder.additional_mass_properties(mass_properties(
+                inertial.mass,
+                convert::point(&inertial.center_of_mass),
+                &inertial.inertia,
+            ));
+        }
+        let body = world.bodies.insert(builder);
+        if let (Some(inertial), Some(_)) = (bone.inertial, bone.parent) {
+            self.masses.push((body, inertial));
+        }
+        for capsule in self.hand.bone_capsules(k) {
+            let collider = ColliderBuilder::capsule_from_endpoints(
+                convert::point(&capsule.a),
+                convert::point(&capsule.b),
+                capsule.radius,
+            )
+            .density(0.0)
+            .friction(friction)
+            .collision_groups(hand_groups(group));
+            self.colliders.push(world.colliders.insert_with_parent(
+                collider,
+                body,
+                &mut world.bodies,
+            ));
+            self.collider_bones.push(k);
+        }
+        self.bones.push(body);
+    }
+
+    /// The joint between bone `k` and its parent, one [`DofJoint`] per degree of freedom.
+    fn add_joint(&mut self, world: &mut PhysicsWorld, k: usize, q: &[f64], frames: &[Transform]) {
+        let bone = self.hand.bones()[k].clone();
+        let parent = bone.parent.expect("a bone with a parent");
+        let (parent_body, body) = (self.bones[parent], self.bones[k]);
+        let rest = convert::pose(&bone.rest);
+        match &bone.joint {
+            Joint::Fixed => {
+                let joint = GenericJointBuilder::new(JointAxesMask::LOCKED_FIXED_AXES)
+                    .local_frame1(rest)
+                    .contacts_enabled(false);
+                world.impulse_joints.insert(parent_body, body, joint, true);
+            }
+            Joint::Hinge(axis) => {
+                let axis = convert::vector(&axis.axis);
+                let dof = revolute(world, parent_body, rest, body, Pose::IDENTITY, axis);
+                self.dofs.push(dof);
+            }
+            Joint::TwoAxis { flexion, abduction } => {
+                // The intermediate body sits at the bone's joint turned by its abduction.
+                let frame = frames[parent]
+                    * bone.rest
+                    * Rotation::from_axis_angle(&abduction.axis, q[bone.first_dof + 1]);
+                let mass = bone.inertial.map_or(1e-4, |i| i.mass) * INTERMEDIATE_MASS_FRACTION;
+                let middle = self.add_intermediate(world, &frame, mass);
+                // Degree of freedom 0 is flexion, 1 abduction.
+                let (inner, outer) = (
+                    convert::vector(&flexion.axis),
+                    convert::vector(&abduction.axis),
+                );
+                let flex = revolute(world, middle, Pose::IDENTITY, body, Pose::IDENTITY, inner);
+                let abd = revolute(world, parent_body, rest, middle, Pose::IDENTITY, outer);
+                self.dofs.push(flex);
+                self.dofs.push(abd);
+            }
+            Joint::Ball { .. } => {
+                let joint = world
+                    .impulse_joints
+                    .insert(body, parent_body, spherical(rest), true);
+                for (motor, axis_in_child) in [
+                    (JointAxis::AngX, Vector::X),
+                    (JointAxis::AngY, Vector::Y),
+                    (JointAxis::AngZ, Vector::Z),
+                ] {
+                    self.dofs.push(DofJoint {
+                        joint,
+                        parent: parent_body,
+                        child: body,
+                        axis_in_child,
+                        motor,
+                        ball_rest: Some(rest.rotation),
+                    });
+                }
+            }
+        }
+    }
+
+    /// A two-axis joint's intermediate body at `frame`, of `mass` (a small sphere's inertia
+    /// about the joint centre).
+    fn add_intermediate(
+        &mut self,
+        world: &mut PhysicsWorld,
+        frame: &Transform,
+        mass: f64,
+    ) -> RigidBodyHandle {
+        let inertia = 0.4 * mass * 0.005f64.powi(2);
+        let middle = world.bodies.insert(
+            RigidBodyBuilder::dynamic()
+                .pose(convert::pose(frame))
+                .can_sleep(false)
+                .additional_mass_properties(MassProperties::new(
+                    Vector::ZERO,
+                    mass,
+                    Vector::splat(inertia),
+                )),
+        );
+        self.intermediates.push(middle);
+        self.masses.push((
+            middle,
+            Inertial {
+                mass,
+                center_of_mass: Point3::origin(),
+                inertia: nalgebra::Matrix3::from_diagonal_element(inertia),
+            },
+        ));
+        middle
     }
 
     /// The hand model.

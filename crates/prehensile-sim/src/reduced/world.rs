@@ -164,6 +164,121 @@ fn contact_frame(normal: Vec3) -> [Vec3; 3] {
     [normal, first, normal.cross(&first)]
 }
 
+/// Every hand capsule's contacts with the object, within the solver's margin: its point nearest
+/// the object, and each end that touches too.
+fn object_contacts(
+    object: &FreeObject,
+    hands: &mut [ReducedHand],
+    solver: &ReducedSettings,
+    points: &mut Vec<ContactPoint>,
+) {
+    let to_mesh = object.pose.inverse();
+    for (h, hand) in hands.iter_mut().enumerate() {
+        for (capsule, c) in hand.hand.capsules().iter().enumerate() {
+            // A capsule without a contact needs no clearing of its warm start: the solve
+            // keeps only this step's impulses.
+            if object.fixed && hand.movers[c.bone].is_empty() {
+                continue;
+            }
+            let frame = &hand.frames[c.bone];
+            let local = Capsule {
+                a: to_mesh * (frame * c.a),
+                b: to_mesh * (frame * c.b),
+                radius: c.radius,
+            };
+            let collider = object.object.collider();
+            let found = collider.capsule_contact(&local, solver.followed, hand.fractions[capsule]);
+            hand.fractions[capsule] = found.map(|f| f.fraction);
+            let Some(nearest) = found.filter(|f| f.gap <= solver.margin) else {
+                continue;
+            };
+            let from = CapsuleOf {
+                hand: h,
+                capsule,
+                bone: c.bone,
+            };
+            // An end sphere's own contact: the search from a warm start at the point
+            // itself, on a segment of no length, samples it once.
+            let end = |t: f64, p: Point3| {
+                let apart = (t - nearest.fraction).abs() >= solver.ends_apart;
+                let sphere = Capsule {
+                    a: p,
+                    b: p,
+                    radius: c.radius,
+                };
+                apart
+                    .then(|| collider.capsule_contact(&sphere, solver.margin, Some(0.0)))
+                    .flatten()
+                    .filter(|f| f.gap <= solver.margin)
+            };
+            let found = [Some(nearest), end(0.0, local.a), end(1.0, local.b)];
+            for (slot, contact) in found.into_iter().enumerate() {
+                let Some(contact) = contact else { continue };
+                points.push(ContactPoint {
+                    from,
+                    slot,
+                    into: None,
+                    point: object.pose * contact.point,
+                    directions: contact_frame(-(object.pose.rotation * contact.normal)),
+                    gap: contact.gap,
+                });
+            }
+        }
+    }
+}
+
+/// Contacts between capsules of different hands, within `margin`.
+fn hand_contacts(hands: &[ReducedHand], margin: f64, points: &mut Vec<ContactPoint>) {
+    for a in 0..hands.len() {
+        for b in a + 1..hands.len() {
+            let (first, second) = (&hands[a], &hands[b]);
+            for (i, ci) in first.hand.capsules().iter().enumerate() {
+                let (pa, qa) = (first.frames[ci.bone] * ci.a, first.frames[ci.bone] * ci.b);
+                for (j, cj) in second.hand.capsules().iter().enumerate() {
+                    if first.movers[ci.bone].is_empty() && second.movers[cj.bone].is_empty() {
+                        continue;
+                    }
+                    let (pb, qb) = (second.frames[cj.bone] * cj.a, second.frames[cj.bone] * cj.b);
+                    let reach = ci.radius + cj.radius + margin;
+                    // Bounding spheres first: most pairs are far apart.
+                    let (ma, mb) = (nalgebra::center(&pa, &qa), nalgebra::center(&pb, &qb));
+                    let spread = 0.5 * ((qa - pa).norm() + (qb - pb).norm());
+                    if (ma - mb).norm() > reach + spread {
+                        continue;
+                    }
+                    let (squared, s, t) = closest_segment_segment(&pa, &qa, &pb, &qb);
+                    let distance = squared.sqrt();
+                    let gap = distance - ci.radius - cj.radius;
+                    if gap > margin {
+                        continue;
+                    }
+                    let (on_a, on_b) = (pa + (qa - pa) * s, pb + (qb - pb) * t);
+                    let Some(normal) = (on_b - on_a).try_normalize(1e-12) else {
+                        continue;
+                    };
+                    points.push(ContactPoint {
+                        from: CapsuleOf {
+                            hand: a,
+                            capsule: i,
+                            bone: ci.bone,
+                        },
+                        slot: 0,
+                        into: Some(CapsuleOf {
+                            hand: b,
+                            capsule: j,
+                            bone: cj.bone,
+                        }),
+                        // Midway between the two surfaces.
+                        point: on_a + normal * (ci.radius + 0.5 * gap),
+                        directions: contact_frame(normal),
+                        gap,
+                    });
+                }
+            }
+        }
+    }
+}
+
 impl ReducedWorld {
     /// This step's contacts: every hand's capsules within the margin of the object, and of
     /// every other hand's capsules.
@@ -171,115 +286,9 @@ impl ReducedWorld {
         let points = &mut self.contact.points;
         points.clear();
         if let Some(object) = &self.object {
-            let to_mesh = object.pose.inverse();
-            for (h, hand) in self.hands.iter_mut().enumerate() {
-                for (capsule, c) in hand.hand.capsules().iter().enumerate() {
-                    // A capsule without a contact needs no clearing of its warm start: the solve
-                    // keeps only this step's impulses.
-                    if object.fixed && hand.movers[c.bone].is_empty() {
-                        continue;
-                    }
-                    let frame = &hand.frames[c.bone];
-                    let local = Capsule {
-                        a: to_mesh * (frame * c.a),
-                        b: to_mesh * (frame * c.b),
-                        radius: c.radius,
-                    };
-                    let collider = object.object.collider();
-                    let found = collider.capsule_contact(
-                        &local,
-                        self.solver.followed,
-                        hand.fractions[capsule],
-                    );
-                    hand.fractions[capsule] = found.map(|f| f.fraction);
-                    let Some(nearest) = found.filter(|f| f.gap <= self.solver.margin) else {
-                        continue;
-                    };
-                    let from = CapsuleOf {
-                        hand: h,
-                        capsule,
-                        bone: c.bone,
-                    };
-                    // An end sphere's own contact: the search from a warm start at the point
-                    // itself, on a segment of no length, samples it once.
-                    let end = |t: f64, p: Point3| {
-                        let apart = (t - nearest.fraction).abs() >= self.solver.ends_apart;
-                        let sphere = Capsule {
-                            a: p,
-                            b: p,
-                            radius: c.radius,
-                        };
-                        apart
-                            .then(|| {
-                                collider.capsule_contact(&sphere, self.solver.margin, Some(0.0))
-                            })
-                            .flatten()
-                            .filter(|f| f.gap <= self.solver.margin)
-                    };
-                    let found = [Some(nearest), end(0.0, local.a), end(1.0, local.b)];
-                    for (slot, contact) in found.into_iter().enumerate() {
-                        let Some(contact) = contact else { continue };
-                        points.push(ContactPoint {
-                            from,
-                            slot,
-                            into: None,
-                            point: object.pose * contact.point,
-                            directions: contact_frame(-(object.pose.rotation * contact.normal)),
-                            gap: contact.gap,
-                        });
-                    }
-                }
-            }
+            object_contacts(object, &mut self.hands, &self.solver, points);
         }
-        for a in 0..self.hands.len() {
-            for b in a + 1..self.hands.len() {
-                let (first, second) = (&self.hands[a], &self.hands[b]);
-                for (i, ci) in first.hand.capsules().iter().enumerate() {
-                    let (pa, qa) = (first.frames[ci.bone] * ci.a, first.frames[ci.bone] * ci.b);
-                    for (j, cj) in second.hand.capsules().iter().enumerate() {
-                        if first.movers[ci.bone].is_empty() && second.movers[cj.bone].is_empty() {
-                            continue;
-                        }
-                        let (pb, qb) =
-                            (second.frames[cj.bone] * cj.a, second.frames[cj.bone] * cj.b);
-                        let reach = ci.radius + cj.radius + self.solver.margin;
-                        // Bounding spheres first: most pairs are far apart.
-                        let (ma, mb) = (nalgebra::center(&pa, &qa), nalgebra::center(&pb, &qb));
-                        let spread = 0.5 * ((qa - pa).norm() + (qb - pb).norm());
-                        if (ma - mb).norm() > reach + spread {
-                            continue;
-                        }
-                        let (squared, s, t) = closest_segment_segment(&pa, &qa, &pb, &qb);
-                        let distance = squared.sqrt();
-                        let gap = distance - ci.radius - cj.radius;
-                        if gap > self.solver.margin {
-                            continue;
-                        }
-                        let (on_a, on_b) = (pa + (qa - pa) * s, pb + (qb - pb) * t);
-                        let Some(normal) = (on_b - on_a).try_normalize(1e-12) else {
-                            continue;
-                        };
-                        points.push(ContactPoint {
-                            from: CapsuleOf {
-                                hand: a,
-                                capsule: i,
-                                bone: ci.bone,
-                            },
-                            slot: 0,
-                            into: Some(CapsuleOf {
-                                hand: b,
-                                capsule: j,
-                                bone: cj.bone,
-                            }),
-                            // Midway between the two surfaces.
-                            point: on_a + normal * (ci.radius + 0.5 * gap),
-                            directions: contact_frame(normal),
-                            gap,
-                        });
-                    }
-                }
-            }
-        }
+        hand_contacts(&self.hands, self.solver.margin, points);
     }
 
     /// The contact rows, their Delassus matrix and free velocities, the impulses, and the
