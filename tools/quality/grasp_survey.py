@@ -5,7 +5,7 @@ the default rule, `strict` and `thesis`) and reports, per rule: how many searche
 grasp, how many of those are in force closure (from the result's own `stability`, computed with
 the full 8-edge cone and Qhull-checked hull), and how many have every contact normal on one side of a plane (a hand that only
 pushes the object one way: found by a small linear program with scipy), and how many of the
-valid grasps the rapier hold test (`--hold`: squeeze with grip strength 0.5, then gravity along each
+valid grasps the hold test (`--hold`, on the simulation's default engine: squeeze with grip strength 0.5, then gravity along each
 axis direction for 1 s) holds in at least 5 of 6 directions and against gravity along -z.
 
 Run from the repository root after `cargo build --release -p prehensile-cli`:
@@ -99,7 +99,7 @@ def main():
               f"{s['one_sided']} with every contact normal on one side; "
               f"median epsilon {np.median(s['eps']) if s['eps'] else 0:.3f}; "
               f"median search {np.median(s['ms']):.1f} ms ({np.median(s['valid_ms']):.1f} ms for "
-              f"those that found a valid grasp); rapier hold test: {s['held5']} held in "
+              f"those that found a valid grasp); hold test: {s['held5']} held in "
               f">= 5 of 6 directions, {s['held_gravity']} against gravity")
         for hand, (n, v, fc) in per_hand.items():
             print(f"    {hand:<12} {n:>3} searches, {v:>3} valid, {fc:>3} in force closure")

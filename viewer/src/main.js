@@ -153,7 +153,7 @@ async function main() {
     else if (m.type === 'error') {
       showError(m.message);
       if (m.during === 'open') {
-        opening = null; // a refused file leaves the last session on
+        opening = null; // a refused file leaves the search before it running
         $('note').textContent = '';
       } else state.status = 'error';
     } else if (state.status === 'saved result' || state.status === 'playing') {
@@ -267,7 +267,7 @@ async function main() {
     drawn = r;
     handGroup.traverse((o) => o.geometry?.dispose());
     handGroup.clear();
-    // The skin is this session's hand's: a saved result of another hand shows its capsules.
+    // The skin is the current search's hand's: a saved result of another hand shows its capsules.
     const skinFits = skinned && r.bones.length === skinned.bones.length && r.hand === state.handName;
     if (skinned) skinned.mesh.visible = Boolean(skinFits);
     if (skinFits) {

@@ -64,7 +64,7 @@ function fail(e) {
   post({ type: 'error', message: String(e?.message ?? e) });
 }
 
-// Opens a hand and an object; on failure the last session goes on (the page keeps showing it).
+// Opens a hand and an object; on failure the search before it goes on (the page keeps showing it).
 function open({ hand, object, movement, seed, search }) {
   let next;
   try {

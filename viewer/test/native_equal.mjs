@@ -26,7 +26,7 @@ for (const [hand, object, movement, seed] of cases) {
   session.run_to_end();
   const wasmMs = performance.now() - began;
   const wasm = JSON.parse(session.result_json());
-  const run = spawnSync(cli, ['grasp', '--hand', hand, '--object', object, '--movement', movement, '--seed', String(seed)]);
+  const run = spawnSync(cli, ['grasp', '--hand', hand, '--object', object, '--movement', movement, '--seed', String(seed), '--threads', '1']);
   assert.ok(run.status === 0 || run.status === 1, `${cli}: ${run.stderr}`);
   const native = JSON.parse(run.stdout.toString());
   const nativeMs = native.stats.seconds * 1e3;

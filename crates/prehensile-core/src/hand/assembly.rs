@@ -91,9 +91,9 @@ fn dof_index(model: &HandModel, what: &'static str, name: &str) -> Result<usize,
 
 /// One bone's numbers: finite, hand-sized, limits ordered, a name per degree of freedom.
 fn check_part(b: &BonePart) -> Result<(), HandError> {
-    let non_finite = |what: &str| HandError::NonFinite {
+    let non_finite = |what: &'static str| HandError::NonFinite {
         bone: b.name.clone(),
-        what: what.to_string(),
+        what,
     };
     if !b.rest.to_homogeneous().iter().all(|c| c.is_finite()) {
         return Err(non_finite("rest transform"));

@@ -1,5 +1,5 @@
 //! Facts of a hand's fingers that finger closing and the search ask for on every evaluation.
-//! They depend on the hand alone, so [`HandModel`](super::HandModel) works them out once when it
+//! They depend on the hand alone, so [`HandModel`] works them out once when it
 //! is built and keeps them ([`HandModel::fingers_close_apart`](super::HandModel::fingers_close_apart),
 //! [`HandModel::finger_floor_radius`](super::HandModel::finger_floor_radius)).
 

@@ -33,7 +33,7 @@ pub enum HandError {
         /// The bone.
         bone: String,
         /// Which field.
-        what: String,
+        what: &'static str,
     },
     /// A bone's length is zero.
     #[error("bone '{bone}' has length {length:e} m; its joint and its end (next joint or tip) must differ")]

@@ -217,9 +217,9 @@ fn joint_from(j: &JointDescription) -> Joint {
 }
 
 fn check_bone_numbers(b: &BoneDescription) -> Result<(), HandError> {
-    let non_finite = |what: &str| HandError::NonFinite {
+    let non_finite = |what: &'static str| HandError::NonFinite {
         bone: b.name.clone(),
-        what: what.to_string(),
+        what,
     };
     if !b.origin.iter().all(|c| c.is_finite()) {
         return Err(non_finite("origin"));

@@ -1,6 +1,6 @@
 //! Grasp movements (§5.3, §6.3.2): a start pose and an end pose, interpolated per bone by slerp.
 //! Beyond the thesis, a movement may pass through a via pose on the way (see [`Via`]). What a
-//! movement is; how one is built for a hand is [`super::movement_building`].
+//! movement is; [`GraspMovement::from_description`] and its siblings build one for a hand.
 
 use crate::geometry::slerp_path::SlerpPath;
 use crate::math::{Point3, Rotation};

@@ -126,7 +126,7 @@ pub(super) fn check_limits(bone: &str, joint: &Joint) -> Result<(), HandError> {
         if !min.is_finite() || !max.is_finite() {
             return Err(HandError::NonFinite {
                 bone: bone.to_string(),
-                what: "joint limits".into(),
+                what: "joint limits",
             });
         }
         if min > max {
@@ -148,7 +148,7 @@ pub(super) fn check_limits(bone: &str, joint: &Joint) -> Result<(), HandError> {
     if !axes_ok {
         return Err(HandError::NonFinite {
             bone: bone.to_string(),
-            what: "joint axis".into(),
+            what: "joint axis",
         });
     }
     Ok(())

@@ -7,7 +7,7 @@
 //! holding a sphere in rapier 0.36, whatever the number of solver sweeps); every degree of freedom is a joint motor that carries the
 //! controller's τP + τA as an implicit spring ([`prehensile_control::joint_springs`]), so the
 //! stiff limit springs integrate stably at millisecond steps; τG + τARM are applied as the
-//! equivalent wrench on each body ([`crate::world::holding_wrench`]). A hinge is a revolute joint; a
+//! equivalent wrench on each body ([`crate::holding_wrench`]). A hinge is a revolute joint; a
 //! two-axis bone becomes two revolute joints in series through a small intermediate body
 //! (R = R(abduction)·R(flexion), as in the model); a ball joint is a spherical joint with a motor
 //! about each of the bone's axes, the cross terms of its 3×3 inertia added as torques
@@ -28,7 +28,7 @@ use crate::world::holding_wrench::{holding_wrench, FrameMotion};
 /// Mass of the intermediate body of a two-axis joint, as a fraction of its bone's mass. The
 /// dynamics model treats that link as massless; the solver needs a mass ratio near one along the
 /// chain (at 5% the passive hand drifted 0.17 rad from neutral and joint limits stopped holding).
-/// Its weight and inertia are compensated like the bones' (see [`crate::world::holding_wrench`]).
+/// Its weight and inertia are compensated like the bones' (see [`crate::holding_wrench`]).
 pub const INTERMEDIATE_MASS_FRACTION: f64 = 1.0;
 
 /// One controlled degree of freedom: a revolute joint between two bodies, or one axis of a
@@ -365,7 +365,7 @@ impl ArticulatedHand {
     }
 
     /// Adds to every moving body the wrench that carries it along with the palm moving as
-    /// `palm` and holds it against `gravity` (τARM and τG; see [`crate::world::holding_wrench`]).
+    /// `palm` and holds it against `gravity` (τARM and τG; see [`crate::holding_wrench`]).
     pub fn hold(&self, world: &mut PhysicsWorld, palm: &FrameMotion, gravity: &Vec3) {
         for (handle, inertial) in &self.masses {
             let body = &mut world.bodies[*handle];
